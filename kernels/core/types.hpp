@@ -1,0 +1,36 @@
+// kernels/core: the field-independent performance core of biofsi.
+//
+// What lives here: scalar and View types (types.hpp), the hex8 basis with sum factorisation and
+// on-the-fly geometry (hex8.hpp), the boundary-face quadrature (face.hpp), the CSR matrix layout
+// (csr.hpp) and the generic element-loop drivers that turn pointwise physics into residual,
+// tangent action, diagonal and assembled matrix (element_loop.hpp).
+// What it may include: Kokkos only. No I/O, no MPI, no hypre, no std:: containers in kernels.
+// Who depends on it: kernels/<field>/ pointwise physics and everything in src/.
+#pragma once
+
+#include <Kokkos_Core.hpp>
+
+namespace biofsi {
+
+using Real = double;
+using ExecSpace = Kokkos::DefaultExecutionSpace;
+using MemSpace = ExecSpace::memory_space;
+using HostSpace = Kokkos::HostSpace;
+
+// Flat dof vectors: dof = node * n_components + component (interleaved).
+using Vector = Kokkos::View<Real*, MemSpace>;
+using ConstVector = Kokkos::View<const Real*, MemSpace>;
+using IndexView = Kokkos::View<int*, MemSpace>;
+using ConstIndexView = Kokkos::View<const int*, MemSpace>;
+
+// Mesh data as kernels see it: node coordinates and hex8 connectivity in VTK/XDMF node order.
+using CoordView = Kokkos::View<Real* [3], MemSpace>;
+using ConstCoordView = Kokkos::View<const Real* [3], MemSpace>;
+using ConnView = Kokkos::View<int* [8], MemSpace>;
+using ConstConnView = Kokkos::View<const int* [8], MemSpace>;
+
+// Nodal auxiliary data (old solution, convective velocity, ...): one row per node.
+using NodalView = Kokkos::View<Real**, Kokkos::LayoutRight, MemSpace>;
+using ConstNodalView = Kokkos::View<const Real**, Kokkos::LayoutRight, MemSpace>;
+
+}  // namespace biofsi

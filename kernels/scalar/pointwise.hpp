@@ -1,0 +1,143 @@
+// kernels/scalar: pointwise physics of substrate transport (paper eqs. 8-10) on one continuous
+// field over all blocks: ALE convection-diffusion in the fluid, diffusion with Monod consumption in
+// the biofilm, with per-block coefficients. Used by src/scalar; depends on kernels/core only.
+//
+// Weak form at one point, one-step-theta in time (theta = 1, inv_dt = 0 gives the steady problem):
+//   f0 = (phi - phi_n)/dt + theta (c.grad phi + R(phi)) + (1 - theta)(c.grad phi_n + R(phi_n))
+//   f1 = D (theta grad phi + (1 - theta) grad phi_n) + tau c f0          (SUPG)
+// f0 is the strong residual as well: the diffusive second derivatives, which vanish for Q1 on
+// affine elements, are neglected in the SUPG residual (standard for trilinear elements).
+// c is the ALE convective velocity u - u_grid, given per node; all terms are evaluated on the
+// current configuration, which makes a constant field an exact discrete solution for any mesh
+// motion (geometric conservation).
+#pragma once
+
+#include "kernels/core/element_loop.hpp"
+
+namespace biofsi {
+
+constexpr int max_blocks = 8;
+
+// Per-block transport coefficients: diffusivity D, Monod rate k and half-saturation K.
+struct TransportCoefficients {
+  Real diffusivity[max_blocks] = {};
+  Real monod_rate[max_blocks] = {};
+  Real monod_half_saturation[max_blocks] = {};
+};
+
+// Monod consumption R = k phi / (K + |phi|): for phi >= 0 the paper's kinetics; for phi < 0 the odd
+// extension, which is smooth at 0 (slope k/K from both sides), never divides by zero (K > 0), and
+// turns a numerical undershoot into production that pulls phi back to zero.
+KOKKOS_INLINE_FUNCTION Real monod_rate(Real k, Real K, Real phi) {
+  return k * phi / (K + Kokkos::fabs(phi));
+}
+KOKKOS_INLINE_FUNCTION Real monod_rate_derivative(Real k, Real K, Real phi) {
+  const Real s = K + Kokkos::fabs(phi);
+  return k * K / (s * s);
+}
+
+// SUPG parameter. Advective part: tau = h/(2|c|) (coth Pe - 1/Pe), Pe = |c| h/(2D), with the
+// streamline length h = 2|c| / sqrt(c.G.c) from the element metric G (reference cell [-1,1]^3);
+// nodally exact for the 1-D steady boundary layer (reference/benchmarks.md). The transient limit
+// adds (2/dt)^2 under the usual root so that tau stays bounded for small time steps.
+KOKKOS_INLINE_FUNCTION Real supg_tau(const Real c[3], const Real metric[3][3], Real diffusivity,
+                                     Real inv_dt) {
+  Real cgc = 0, c2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    c2 += c[i] * c[i];
+    for (int j = 0; j < 3; ++j) cgc += c[i] * metric[i][j] * c[j];
+  }
+  if (c2 <= 0 || cgc <= 0) return 0;
+  const Real speed = Kokkos::sqrt(c2);
+  const Real h = 2 * speed / Kokkos::sqrt(cgc);
+  Real xi = 1;  // coth Pe - 1/Pe
+  if (diffusivity > 0) {
+    const Real pe = speed * h / (2 * diffusivity);
+    if (pe < 1e-3)
+      xi = pe / 3;
+    else if (pe < 50)
+      xi = 1 / Kokkos::tanh(pe) - 1 / pe;
+    else
+      xi = 1 - 1 / pe;
+  }
+  const Real tau_adv = h / (2 * speed) * xi;
+  if (tau_adv <= 0) return 0;
+  const Real inv2 = 1 / (tau_adv * tau_adv) + 4 * inv_dt * inv_dt;
+  return 1 / Kokkos::sqrt(inv2);
+}
+
+// Element physics. Auxiliary nodal data: [phi_n, c_x, c_y, c_z].
+struct TransportPhysics {
+  static constexpr int n_components = 1, n_aux = 4;
+  TransportCoefficients coef;
+  Real inv_dt = 0;  // 0: steady
+  Real theta = 1;
+  bool supg = true;
+
+  struct Local {
+    Real D, k, K, tau, c[3];
+  };
+
+  KOKKOS_INLINE_FUNCTION Local local(const QpData<n_aux>& q) const {
+    Local l;
+    l.D = coef.diffusivity[q.block];
+    l.k = coef.monod_rate[q.block];
+    l.K = coef.monod_half_saturation[q.block];
+    for (int i = 0; i < 3; ++i) l.c[i] = q.aux[1 + i];
+    l.tau = supg ? supg_tau(l.c, q.metric, l.D, inv_dt) : 0.0;
+    return l;
+  }
+
+  KOKKOS_INLINE_FUNCTION Real reaction(const Local& l, Real phi) const {
+    return l.k > 0 ? monod_rate(l.k, l.K, phi) : 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION Real reaction_derivative(const Local& l, Real phi) const {
+    return l.k > 0 ? monod_rate_derivative(l.k, l.K, phi) : 0.0;
+  }
+
+  KOKKOS_INLINE_FUNCTION void residual(const QpData<n_aux>& q, const Real u[1], const Real gu[1][3],
+                                       Real f0[1], Real f1[1][3]) const {
+    const Local l = local(q);
+    const Real phi_n = q.aux[0];
+    const Real* g_n = q.grad_aux[0];
+    Real conv = 0, conv_n = 0;
+    for (int i = 0; i < 3; ++i) {
+      conv += l.c[i] * gu[0][i];
+      conv_n += l.c[i] * g_n[i];
+    }
+    f0[0] = (u[0] - phi_n) * inv_dt + theta * (conv + reaction(l, u[0])) +
+            (1 - theta) * (conv_n + reaction(l, phi_n));
+    for (int i = 0; i < 3; ++i)
+      f1[0][i] = l.D * (theta * gu[0][i] + (1 - theta) * g_n[i]) + l.tau * l.c[i] * f0[0];
+  }
+
+  KOKKOS_INLINE_FUNCTION void tangent(const QpData<n_aux>& q, const Real u[1], const Real[1][3],
+                                      const Real du[1], const Real gdu[1][3], Real df0[1],
+                                      Real df1[1][3]) const {
+    const Local l = local(q);
+    Real conv = 0;
+    for (int i = 0; i < 3; ++i) conv += l.c[i] * gdu[0][i];
+    df0[0] = du[0] * inv_dt + theta * (conv + reaction_derivative(l, u[0]) * du[0]);
+    for (int i = 0; i < 3; ++i) df1[0][i] = l.D * theta * gdu[0][i] + l.tau * l.c[i] * df0[0];
+  }
+};
+
+// Boundary physics for Neumann and Robin conditions: the prescribed inward flux
+//   q = h + alpha (phi_inf - phi_theta),  phi_theta = theta phi + (1 - theta) phi_n,
+// enters the residual as -q (h and phi_inf are evaluated at t_{n+theta}).
+// Auxiliary nodal data on the faces: [phi_n, h, alpha, phi_inf].
+struct TransportBoundaryPhysics {
+  static constexpr int n_components = 1, n_aux = 4;
+  Real theta = 1;
+
+  KOKKOS_INLINE_FUNCTION void residual(const Real aux[4], const Real u[1], Real f0[1]) const {
+    const Real phi_theta = theta * u[0] + (1 - theta) * aux[0];
+    f0[0] = -(aux[1] + aux[2] * (aux[3] - phi_theta));
+  }
+  KOKKOS_INLINE_FUNCTION void tangent(const Real aux[4], const Real[1], const Real du[1],
+                                      Real df0[1]) const {
+    df0[0] = aux[2] * theta * du[0];
+  }
+};
+
+}  // namespace biofsi

@@ -1,0 +1,280 @@
+#include "mesh/mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <set>
+#include <stdexcept>
+
+namespace biofsi {
+
+int Mesh::block_index(const std::string& name) const {
+  for (size_t b = 0; b < block_names.size(); ++b)
+    if (block_names[b] == name) return static_cast<int>(b);
+  return -1;
+}
+
+std::vector<int> Mesh::elements_of_block(int block) const {
+  std::vector<int> out;
+  for (int e = 0; e < n_elements(); ++e)
+    if (element_block[e] == block) out.push_back(e);
+  return out;
+}
+
+std::vector<int> Mesh::nodes_of_block(int block) const {
+  std::vector<char> seen(x.size(), 0);
+  for (int e = 0; e < n_elements(); ++e)
+    if (element_block[e] == block)
+      for (int n : conn[e]) seen[n] = 1;
+  std::vector<int> out;
+  for (int n = 0; n < n_nodes(); ++n)
+    if (seen[n]) out.push_back(n);
+  return out;
+}
+
+namespace {
+
+// Node coordinates of a graded 1-D division: element sizes grow geometrically so that the last
+// over the first equals `grading`.
+std::vector<double> graded_division(double a, double b, int n, double grading) {
+  std::vector<double> t(n + 1, 0.0);
+  if (n < 1) throw std::invalid_argument("a box block needs at least one element per direction");
+  const double r = n > 1 ? std::pow(grading, 1.0 / (n - 1)) : 1.0;
+  double h = 1.0, total = 0.0;
+  std::vector<double> sizes(n);
+  for (int i = 0; i < n; ++i, h *= r) total += (sizes[i] = h);
+  for (int i = 0; i < n; ++i) t[i + 1] = t[i] + sizes[i] / total;
+  std::vector<double> out(n + 1);
+  for (int i = 0; i <= n; ++i) out[i] = a + (b - a) * t[i];
+  out[n] = b;
+  return out;
+}
+
+void add_face(Mesh& m, const std::string& name, int e, int f) {
+  m.face_sets[name].push_back({e, f});
+}
+
+void finish_node_sets_from_faces(Mesh& m) {
+  for (const auto& [name, faces] : m.face_sets) {
+    std::set<int> nodes;
+    for (const auto& bf : faces)
+      for (int k = 0; k < 4; ++k)
+        nodes.insert(m.conn[bf.element][hex8_face_nodes[bf.local_face][k]]);
+    m.node_sets[name] = std::vector<int>(nodes.begin(), nodes.end());
+  }
+}
+
+}  // namespace
+
+Mesh make_box_mesh(const BoxSpec& spec) {
+  if (spec.blocks.empty()) throw std::invalid_argument("a box mesh needs at least one block");
+  Mesh m;
+  const auto xs = graded_division(spec.x0, spec.x1, spec.nx, 1.0);
+  const auto zs = graded_division(spec.z0, spec.z1, spec.nz, 1.0);
+  std::vector<double> ys{spec.blocks[0].y0};
+  std::vector<int> block_of_layer;
+  for (size_t b = 0; b < spec.blocks.size(); ++b) {
+    const auto& blk = spec.blocks[b];
+    if (b > 0 && std::abs(blk.y0 - spec.blocks[b - 1].y1) > 1e-12 * (1 + std::abs(blk.y0)))
+      throw std::invalid_argument("box block '" + blk.name + "' must start where '" +
+                                  spec.blocks[b - 1].name + "' ends");
+    if (!(blk.y1 > blk.y0))
+      throw std::invalid_argument("box block '" + blk.name + "' has y1 <= y0");
+    const auto yb = graded_division(blk.y0, blk.y1, blk.ny, blk.grading);
+    ys.insert(ys.end(), yb.begin() + 1, yb.end());
+    block_of_layer.insert(block_of_layer.end(), blk.ny, static_cast<int>(b));
+    m.block_names.push_back(blk.name);
+  }
+  const int nx = spec.nx, ny = static_cast<int>(ys.size()) - 1, nz = spec.nz;
+  auto node = [&](int i, int j, int k) { return i + (nx + 1) * (j + (ny + 1) * k); };
+  m.x.resize(static_cast<size_t>(nx + 1) * (ny + 1) * (nz + 1));
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) m.x[node(i, j, k)] = {xs[i], ys[j], zs[k]};
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int e = m.n_elements();
+        m.conn.push_back({node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k),
+                          node(i, j + 1, k), node(i, j, k + 1), node(i + 1, j, k + 1),
+                          node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)});
+        const int b = block_of_layer[j];
+        m.element_block.push_back(b);
+        const std::string& bn = spec.blocks[b].name;
+        if (i == 0) add_face(m, "left", e, 0), add_face(m, bn + "_left", e, 0);
+        if (i == nx - 1) add_face(m, "right", e, 1), add_face(m, bn + "_right", e, 1);
+        if (j == 0) add_face(m, "bottom", e, 2);
+        if (j == ny - 1) add_face(m, "top", e, 3);
+        if (k == 0) add_face(m, "front", e, 4), add_face(m, bn + "_front", e, 4);
+        if (k == nz - 1) add_face(m, "back", e, 5), add_face(m, bn + "_back", e, 5);
+        if (j + 1 < ny && block_of_layer[j + 1] != b)
+          add_face(m, bn + "_" + spec.blocks[block_of_layer[j + 1]].name, e, 3);
+      }
+  finish_node_sets_from_faces(m);
+  m.global_node_id.resize(m.x.size());
+  std::iota(m.global_node_id.begin(), m.global_node_id.end(), 0LL);
+  m.n_owned_nodes = m.n_nodes();
+  return m;
+}
+
+std::vector<std::vector<int>> colour_elements(const Mesh& mesh, const std::vector<int>& elements) {
+  std::vector<std::vector<int>> elements_of_node(mesh.x.size());
+  for (int e : elements)
+    for (int n : mesh.conn[e]) elements_of_node[n].push_back(e);
+  std::vector<int> colour(mesh.conn.size(), -1);
+  std::vector<std::vector<int>> groups;
+  for (int e : elements) {
+    std::vector<char> used(groups.size() + 1, 0);
+    for (int n : mesh.conn[e])
+      for (int other : elements_of_node[n])
+        if (colour[other] >= 0) used[colour[other]] = 1;
+    int c = 0;
+    while (used[c]) ++c;
+    colour[e] = c;
+    if (c == static_cast<int>(groups.size())) groups.emplace_back();
+    groups[c].push_back(e);
+  }
+  return groups;
+}
+
+namespace {
+ConstIndexView to_device_indices(const std::vector<int>& v, const char* label) {
+  IndexView d(std::string(label), v.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+}  // namespace
+
+ElementGroups make_element_groups(const Mesh& mesh, const std::vector<int>& elements,
+                                  Scatter scatter) {
+  ElementGroups g;
+  g.scatter = scatter;
+  if (scatter == Scatter::Atomic) {
+    g.groups.push_back(to_device_indices(elements, "biofsi::elements"));
+  } else {
+    for (const auto& group : colour_elements(mesh, elements))
+      g.groups.push_back(to_device_indices(group, "biofsi::colour"));
+  }
+  return g;
+}
+
+CsrMatrix make_sparsity(const Mesh& mesh, const std::vector<int>& elements, int nc) {
+  const int nn = mesh.n_nodes();
+  std::vector<std::vector<int>> neighbours(nn);
+  for (int e : elements)
+    for (int a : mesh.conn[e])
+      for (int b : mesh.conn[e]) neighbours[a].push_back(b);
+  CsrMatrix m;
+  m.n_rows = nn * nc;
+  Kokkos::View<int*, MemSpace> rp("biofsi::row_ptr", m.n_rows + 1);
+  auto rph = Kokkos::create_mirror_view(rp);
+  std::vector<int> cols;
+  rph(0) = 0;
+  for (int a = 0; a < nn; ++a) {
+    auto& nb = neighbours[a];
+    std::sort(nb.begin(), nb.end());
+    nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+    if (nb.empty()) nb.push_back(a);  // isolated node: keep a diagonal entry
+    for (int ca = 0; ca < nc; ++ca) {
+      for (int b : nb)
+        for (int cb = 0; cb < nc; ++cb) cols.push_back(b * nc + cb);
+      rph(a * nc + ca + 1) = static_cast<int>(cols.size());
+    }
+  }
+  m.row_ptr = rp;
+  Kokkos::deep_copy(rp, rph);
+  m.col = Kokkos::View<int*, MemSpace>("biofsi::col", cols.size());
+  auto ch = Kokkos::create_mirror_view(m.col);
+  for (size_t k = 0; k < cols.size(); ++k) ch(k) = cols[k];
+  Kokkos::deep_copy(m.col, ch);
+  m.val = Kokkos::View<Real*, MemSpace>("biofsi::val", cols.size());
+  return m;
+}
+
+void copy_coordinates_to_device(const Mesh& mesh, CoordView x) {
+  auto xh = Kokkos::create_mirror_view(x);
+  for (int n = 0; n < mesh.n_nodes(); ++n)
+    for (int d = 0; d < 3; ++d) xh(n, d) = mesh.x[n][d];
+  Kokkos::deep_copy(x, xh);
+}
+
+DeviceMesh to_device(const Mesh& mesh) {
+  DeviceMesh d;
+  d.x = CoordView("biofsi::x", mesh.n_nodes());
+  copy_coordinates_to_device(mesh, d.x);
+  d.conn = ConnView("biofsi::conn", mesh.n_elements());
+  auto ch = Kokkos::create_mirror_view(d.conn);
+  for (int e = 0; e < mesh.n_elements(); ++e)
+    for (int a = 0; a < 8; ++a) ch(e, a) = mesh.conn[e][a];
+  Kokkos::deep_copy(d.conn, ch);
+  d.element_block = IndexView("biofsi::element_block", mesh.n_elements());
+  auto bh = Kokkos::create_mirror_view(d.element_block);
+  for (int e = 0; e < mesh.n_elements(); ++e) bh(e) = mesh.element_block[e];
+  Kokkos::deep_copy(d.element_block, bh);
+  return d;
+}
+
+std::vector<double> scaled_jacobians(const Mesh& mesh) {
+  // Corner c of a VTK hex and its three edge neighbours, ordered so that a right-handed cube has
+  // positive determinant at every corner.
+  constexpr int corner_edges[8][3] = {{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7},
+                                      {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}};
+  std::vector<double> out(mesh.conn.size());
+  for (int e = 0; e < mesh.n_elements(); ++e) {
+    double worst = 1.0;
+    for (int c = 0; c < 8; ++c) {
+      const Point& p = mesh.x[mesh.conn[e][c]];
+      double v[3][3], len[3];
+      for (int k = 0; k < 3; ++k) {
+        const Point& q = mesh.x[mesh.conn[e][corner_edges[c][k]]];
+        for (int d = 0; d < 3; ++d) v[k][d] = q[d] - p[d];
+        len[k] = std::sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
+      }
+      const double det = v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[2][1]) -
+                         v[0][1] * (v[1][0] * v[2][2] - v[1][2] * v[2][0]) +
+                         v[0][2] * (v[1][0] * v[2][1] - v[1][1] * v[2][0]);
+      const double denom = len[0] * len[1] * len[2];
+      worst = std::min(worst, denom > 0 ? det / denom : -1.0);
+    }
+    out[e] = worst;
+  }
+  return out;
+}
+
+DofMap make_dof_map(const Mesh& mesh, int n_components) {
+  DofMap d;
+  d.n_components = n_components;
+  d.n_nodes = mesh.n_nodes();
+  d.n_owned_nodes = mesh.n_owned_nodes;
+  return d;
+}
+
+Kokkos::View<char*, MemSpace> Constraints::mask(int n_dofs) const {
+  Kokkos::View<char*, MemSpace> m("biofsi::constraint_mask", n_dofs);
+  auto h = Kokkos::create_mirror_view(m);
+  for (const auto& [dof, v] : value) h(dof) = 1;
+  Kokkos::deep_copy(m, h);
+  return m;
+}
+
+IndexView Constraints::dofs() const {
+  IndexView d("biofsi::constrained_dofs", value.size());
+  auto h = Kokkos::create_mirror_view(d);
+  size_t i = 0;
+  for (const auto& kv : value) h(i++) = kv.first;
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+Vector Constraints::values() const {
+  Vector d("biofsi::constrained_values", value.size());
+  auto h = Kokkos::create_mirror_view(d);
+  size_t i = 0;
+  for (const auto& kv : value) h(i++) = kv.second;
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+}  // namespace biofsi

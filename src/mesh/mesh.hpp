@@ -1,0 +1,124 @@
+// src/mesh: the hex8 mesh on the host, its generators, topology helpers and the dof map.
+//
+// What lives here: Mesh (coordinates, VTK-ordered connectivity, element blocks, named node and
+// face sets, global ids with an owned/ghost split), the structured multi-block box generator,
+// element colouring, CSR sparsity patterns, dof maps with Dirichlet constraints, device mirrors
+// and mesh-quality measures.
+// What it may include: kernels/core, the standard library. Fields, solvers and io depend on it;
+// it depends on none of them.
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "kernels/core/csr.hpp"
+#include "kernels/core/element_loop.hpp"
+#include "kernels/core/types.hpp"
+
+namespace biofsi {
+
+using Point = std::array<double, 3>;
+
+// Local faces of a hex8 in VTK order: 0 x-, 1 x+, 2 y-, 3 y+, 4 z-, 5 z+ (reference directions).
+constexpr int hex8_face_nodes[6][4] = {{0, 3, 7, 4}, {1, 2, 6, 5}, {0, 1, 5, 4},
+                                       {3, 2, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
+
+struct BoundaryFace {
+  int element;
+  int local_face;
+};
+
+struct Mesh {
+  std::vector<Point> x;
+  std::vector<std::array<int, 8>> conn;  // VTK hexahedron order
+  std::vector<int> element_block;        // index into block_names
+  std::vector<std::string> block_names;
+  std::map<std::string, std::vector<int>> node_sets;  // sorted, unique
+  std::map<std::string, std::vector<BoundaryFace>> face_sets;
+  // Parallel layout (DESIGN.md section 4): nodes [0, n_owned_nodes) are owned, the rest ghosts.
+  std::vector<long long> global_node_id;
+  int n_owned_nodes = 0;
+
+  int n_nodes() const { return static_cast<int>(x.size()); }
+  int n_elements() const { return static_cast<int>(conn.size()); }
+  int block_index(const std::string& name) const;  // -1 if absent
+  std::vector<int> elements_of_block(int block) const;
+  // Nodes touched by the elements of a block.
+  std::vector<int> nodes_of_block(int block) const;
+};
+
+// One box of a stack along y. Grading is the ratio of the last to the first element height.
+struct BoxBlock {
+  std::string name;
+  double y0 = 0, y1 = 1;
+  int ny = 1;
+  double grading = 1.0;
+};
+
+// Several boxes stacked along y with conforming shared faces, one x and z division for all.
+// Node sets and face sets: left, right, bottom, top, front (z-), back (z+) of the whole stack;
+// <block>_left/_right/_front/_back and, per shared face, <lower>_<upper> (the lower block's faces,
+// so their outward normal points into the upper block).
+struct BoxSpec {
+  double x0 = 0, x1 = 1, z0 = 0, z1 = 1;
+  int nx = 1, nz = 1;
+  std::vector<BoxBlock> blocks;
+};
+
+Mesh make_box_mesh(const BoxSpec& spec);
+
+// Moves every node by a smooth map (for distorted-mesh verification).
+template <class Map>
+void distort(Mesh& mesh, const Map& map) {
+  for (auto& p : mesh.x) p = map(p);
+}
+
+// Greedy element colouring: no two elements of one colour share a node.
+std::vector<std::vector<int>> colour_elements(const Mesh& mesh, const std::vector<int>& elements);
+
+// Element groups for the element-loop drivers over `elements` with the given scatter policy.
+ElementGroups make_element_groups(const Mesh& mesh, const std::vector<int>& elements,
+                                  Scatter scatter);
+
+// Sparsity pattern of a field with n_components per node, coupling all dofs of nodes that share an
+// element (restricted to `elements`); values zeroed.
+CsrMatrix make_sparsity(const Mesh& mesh, const std::vector<int>& elements, int n_components);
+
+// Device copies of coordinates, connectivity and element blocks.
+struct DeviceMesh {
+  CoordView x;
+  ConnView conn;
+  IndexView element_block;
+};
+DeviceMesh to_device(const Mesh& mesh);
+void copy_coordinates_to_device(const Mesh& mesh, CoordView x);
+
+// Scaled Jacobian of each element: min over the 8 corners of det[e1 e2 e3] / (|e1||e2||e3|) of
+// the corner's edge vectors; 1 for a cube, <= 0 for an inverted or degenerate element.
+std::vector<double> scaled_jacobians(const Mesh& mesh);
+
+// Dof map of a field with n_components per node over all mesh nodes. Single rank: global dof ids
+// equal local ones; owned dofs come first (the owned/ghost split of the nodes).
+struct DofMap {
+  int n_components = 1;
+  int n_nodes = 0;
+  int n_owned_nodes = 0;
+  int n_dofs() const { return n_nodes * n_components; }
+  int n_owned_dofs() const { return n_owned_nodes * n_components; }
+  int dof(int node, int component) const { return node * n_components + component; }
+};
+DofMap make_dof_map(const Mesh& mesh, int n_components);
+
+// Dirichlet constraints: dof -> prescribed value. Later additions of the same dof overwrite.
+struct Constraints {
+  std::map<int, double> value;
+  void add(int dof, double v) { value[dof] = v; }
+  // A device mask (1 = constrained) and the lists of dofs and values.
+  Kokkos::View<char*, MemSpace> mask(int n_dofs) const;
+  IndexView dofs() const;
+  Vector values() const;
+};
+
+}  // namespace biofsi
