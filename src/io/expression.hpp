@@ -1,0 +1,28 @@
+// A scalar expression in x, y, z, t (muparser), e.g. "0.5 + 0.5*cos(0.2*_pi*x)"; `pi` and `_pi`
+// both mean pi. Host only; not thread-safe (one parser per object).
+#pragma once
+
+#include <memory>
+#include <string>
+
+namespace biofsi {
+
+class Expression {
+ public:
+  // Throws std::invalid_argument naming the expression and muparser's reason if it does not parse
+  // or uses variables other than x, y, z, t.
+  explicit Expression(const std::string& text);
+  ~Expression();
+  Expression(Expression&&) noexcept;
+  Expression& operator=(Expression&&) noexcept;
+
+  double operator()(double x, double y, double z, double t) const;
+  const std::string& text() const;
+  bool is_constant() const;  // uses none of x, y, z, t
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace biofsi

@@ -1,0 +1,48 @@
+// Results as HDF5 (one file per written step) with an XDMF index that ParaView opens as a time
+// series. Every file is written to a temporary name and renamed, so a killed run never leaves a
+// corrupt file behind; the XDMF index always lists only complete steps.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace biofsi {
+
+struct OutputField {
+  std::string name;
+  int n_components = 1;
+  bool cell_centered = false;  // false: one value tuple per node; true: per element
+  std::vector<double> values;  // interleaved components
+};
+
+class XdmfWriter {
+ public:
+  // Files go to directory/<basename>_<step>.h5 and directory/<basename>.xdmf. The directory is
+  // created if missing. An existing index of the same name is overwritten only if `overwrite`;
+  // otherwise the constructor throws std::runtime_error naming the file.
+  XdmfWriter(const std::string& directory, const std::string& basename, bool overwrite);
+
+  // Writes mesh coordinates, connectivity, block id (cell field "block") and the fields at `time`.
+  void write(int step, double time, const Mesh& mesh, const std::vector<OutputField>& fields);
+
+  const std::string& index_path() const { return index_path_; }
+
+ private:
+  std::string directory_, basename_, index_path_;
+  struct Entry {
+    int step;
+    double time;
+    std::string h5;
+    int n_nodes, n_elements;
+    std::vector<OutputField> meta;  // values left empty
+  };
+  std::vector<Entry> entries_;
+  void write_index() const;
+};
+
+// Reads one dataset of a written step back (tests, restart, post-processing).
+std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset);
+
+}  // namespace biofsi

@@ -1,0 +1,135 @@
+// src/solvers: Krylov methods on Kokkos Views, hypre BoomerAMG on an assembled matrix, and the
+// Newton method with inexact forcing and backtracking line search, all field-independent.
+// What it may include: kernels/core, hypre, MPI. Fields (src/scalar, ...) and the driver depend on
+// it; it depends on no field.
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "kernels/core/csr.hpp"
+#include "kernels/core/types.hpp"
+
+namespace biofsi {
+
+// ---- vector operations (Kokkos reductions in the execution space) ----
+Real dot(ConstVector a, ConstVector b);
+Real norm2(ConstVector a);
+bool all_finite(ConstVector a);
+void axpy(Real alpha, ConstVector x, Vector y);              // y += alpha x
+void axpby(Real alpha, ConstVector x, Real beta, Vector y);  // y = alpha x + beta y
+void scale(Real alpha, Vector x);                            // x *= alpha
+void fill(Vector x, Real value);
+void copy(ConstVector from, Vector to);
+
+// y = A x for an operator that is only known by its action.
+using ApplyFn = std::function<void(ConstVector x, Vector y)>;
+
+struct KrylovOptions {
+  Real rel_tol = 1e-8;  // on ||r|| / ||b||
+  Real abs_tol = 0.0;   // on ||r||
+  int max_iterations = 1000;
+  int restart = 50;  // (F)GMRES only
+};
+
+struct KrylovResult {
+  bool converged = false;
+  int iterations = 0;
+  Real initial_residual = 0;  // ||b - A x0||
+  Real final_residual = 0;    // ||b - A x|| (true residual, recomputed at exit)
+  std::string reason;         // "converged", "max iterations", "breakdown", "NaN"
+};
+
+// Preconditioned CG for SPD operators; `precondition` may be empty (identity).
+KrylovResult cg(const ApplyFn& apply, const ApplyFn& precondition, ConstVector b, Vector x,
+                const KrylovOptions& opt);
+// Right-preconditioned flexible GMRES(restart) for general operators.
+KrylovResult fgmres(const ApplyFn& apply, const ApplyFn& precondition, ConstVector b, Vector x,
+                    const KrylovOptions& opt);
+
+struct AmgOptions {
+  int num_functions = 1;          // unknowns per node (systems AMG when > 1)
+  bool nodal_coarsening = false;  // BoomerAMG nodal option for systems
+  Real strong_threshold = 0.25;
+  int max_levels = 25;
+  int cycles = 1;  // V-cycles per preconditioner application
+  int print_level = 0;
+};
+
+// BoomerAMG on a CSR matrix (copied to a hypre IJ/ParCSR matrix; single rank: global row ids equal
+// local ones, the rows are the rank's owned rows). apply() runs `cycles` V-cycles from a zero
+// guess.
+class BoomerAmg {
+ public:
+  explicit BoomerAmg(const AmgOptions& opt = {});
+  ~BoomerAmg();
+  BoomerAmg(const BoomerAmg&) = delete;
+  BoomerAmg& operator=(const BoomerAmg&) = delete;
+
+  void setup(const CsrMatrix& a);
+  void apply(ConstVector r, Vector z) const;
+  ApplyFn as_function() const;
+  int levels() const;
+  double setup_seconds() const { return setup_seconds_; }
+
+ private:
+  struct Impl;
+  Impl* impl_ = nullptr;
+  AmgOptions opt_;
+  double setup_seconds_ = 0;
+};
+
+// A failed solve: names the field, the step and why.
+class SolveError : public std::runtime_error {
+ public:
+  SolveError(const std::string& field, const std::string& step, const std::string& why)
+      : std::runtime_error(field + ": " + step + ": " + why),
+        field_(field),
+        step_(step),
+        why_(why) {}
+  const std::string& field() const { return field_; }
+  const std::string& step() const { return step_; }
+  const std::string& why() const { return why_; }
+
+ private:
+  std::string field_, step_, why_;
+};
+
+// What Newton needs from a field. Residuals include constraints: constrained rows are zero once the
+// iterate satisfies them, and tangent() acts as identity on constrained dofs.
+struct NewtonSystem {
+  std::function<void(ConstVector u, Vector r)> residual;
+  std::function<void(ConstVector u, ConstVector du, Vector y)> tangent;  // y = J(u) du
+  // Called once per Newton iteration before the linear solve (assemble + AMG set-up); may be empty.
+  std::function<void(ConstVector u)> setup_preconditioner;
+  ApplyFn precondition;    // may be empty
+  bool symmetric = false;  // CG if true, FGMRES otherwise
+};
+
+struct NewtonOptions {
+  Real rel_tol = 1e-10;  // on ||r|| / ||r0||
+  Real abs_tol = 1e-14;  // on ||r||
+  int max_iterations = 25;
+  // Eisenstat-Walker (choice 2) forcing: eta_k = gamma (||r_k|| / ||r_{k-1}||)^alpha, clipped to
+  // [eta_min, eta_max]; eta_max also bounds the first linear solve.
+  Real eta_max = 1e-2, eta_min = 1e-10, gamma = 0.9, alpha = 2.0;
+  int max_backtracks = 20;  // Armijo backtracking on ||r||^2 with halving
+  KrylovOptions krylov;     // rel_tol is replaced by the forcing term
+};
+
+struct NewtonResult {
+  bool converged = false;
+  int iterations = 0;
+  int krylov_iterations = 0;           // summed over all Newton iterations
+  std::vector<Real> residual_history;  // ||r|| at every iterate, starting with the initial one
+  std::string
+      reason;  // "converged", "max iterations", "line search failed", "NaN", "linear solver"
+};
+
+// Solves residual(u) = 0 starting from u (updated in place). Never throws for non-convergence:
+// the caller decides (and raises SolveError with its field and step).
+NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOptions& opt);
+
+}  // namespace biofsi
