@@ -25,6 +25,7 @@ template <int NA>
 struct QpData {
   Real x[3];
   Real metric[3][3];  // G_ij = sum_d dxi_d/dx_i dxi_d/dx_j, for stabilisation lengths
+  Real det;           // det of dx/dxi (reference cell [-1,1]^3), for Jacobian-based stiffening
   int block;
   Real aux[NA > 0 ? NA : 1];
   Real grad_aux[NA > 0 ? NA : 1][3];
@@ -107,6 +108,7 @@ struct ElementLoop {
     for (int q = 0; q < NQ; ++q) {
       QpData<NA>& d = g.qp[q];
       d.block = block;
+      d.det = g.geo.det[q];
       for (int i = 0; i < 3; ++i) {
         d.x[i] = g.geo.x[q][i];
         for (int j = 0; j < 3; ++j) {

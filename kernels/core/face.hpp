@@ -64,7 +64,7 @@ struct FaceLoop {
       }
       const Real cx = xs[1] * xt[2] - xs[2] * xt[1], cy = xs[2] * xt[0] - xs[0] * xt[2],
                  cz = xs[0] * xt[1] - xs[1] * xt[0];
-      da[q] = Kokkos::sqrt(cx * cx + cy * cy + cz * cz);  // Gauss weights are 1
+      da[q] = math::sqrt(cx * cx + cy * cy + cz * cz);  // Gauss weights are 1
     }
   }
 

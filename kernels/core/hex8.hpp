@@ -179,6 +179,7 @@ struct ElementGeometry {
   static constexpr int NQ = Basis::n_qp;
   Real x[NQ][3];       // physical coordinates of the points
   Real inv[NQ][3][3];  // dxi/dx
+  Real det[NQ];        // det J (reference cell [-1,1]^3)
   Real wdet[NQ];       // quadrature weight * det J
   Real min_det;
 
@@ -197,9 +198,9 @@ struct ElementGeometry {
       Real jac[3][3];
       for (int c = 0; c < 3; ++c)
         for (int d = 0; d < 3; ++d) jac[c][d] = grad[c][q][d];
-      const Real det = invert_jacobian(jac, inv[q]);
-      min_det = det < min_det ? det : min_det;
-      wdet[q] = quadrature_weight<Basis>(q) * det;
+      det[q] = invert_jacobian(jac, inv[q]);
+      min_det = det[q] < min_det ? det[q] : min_det;
+      wdet[q] = quadrature_weight<Basis>(q) * det[q];
     }
   }
 };

@@ -33,4 +33,21 @@ using ConstConnView = Kokkos::View<const int* [8], MemSpace>;
 using NodalView = Kokkos::View<Real**, Kokkos::LayoutRight, MemSpace>;
 using ConstNodalView = Kokkos::View<const Real**, Kokkos::LayoutRight, MemSpace>;
 
+// Device-callable math: Kokkos moved these from Kokkos::Experimental to Kokkos in 3.6.
+namespace math {
+#if KOKKOS_VERSION >= 30600
+using Kokkos::exp;
+using Kokkos::fabs;
+using Kokkos::log;
+using Kokkos::sqrt;
+using Kokkos::tanh;
+#else
+using Kokkos::Experimental::exp;
+using Kokkos::Experimental::fabs;
+using Kokkos::Experimental::log;
+using Kokkos::Experimental::sqrt;
+using Kokkos::Experimental::tanh;
+#endif
+}  // namespace math
+
 }  // namespace biofsi

@@ -3,13 +3,14 @@
 // the biofilm, with per-block coefficients. Used by src/scalar; depends on kernels/core only.
 //
 // Weak form at one point, one-step-theta in time (theta = 1, inv_dt = 0 gives the steady problem):
-//   f0 = (phi - phi_n)/dt + theta (c.grad phi + R(phi)) + (1 - theta)(c.grad phi_n + R(phi_n))
+//   f0 = (phi - phi_n)/dt + theta (c.grad phi + R(phi)) + (1 - theta)(c.grad phi_n + R(phi_n)) - s
 //   f1 = D (theta grad phi + (1 - theta) grad phi_n) + tau c f0          (SUPG)
 // f0 is the strong residual as well: the diffusive second derivatives, which vanish for Q1 on
 // affine elements, are neglected in the SUPG residual (standard for trilinear elements).
 // c is the ALE convective velocity u - u_grid, given per node; all terms are evaluated on the
 // current configuration, which makes a constant field an exact discrete solution for any mesh
-// motion (geometric conservation).
+// motion (geometric conservation). s is a volumetric source evaluated at t_{n+theta} (manufactured
+// solutions, feeds).
 #pragma once
 
 #include "kernels/core/element_loop.hpp"
@@ -29,10 +30,10 @@ struct TransportCoefficients {
 // extension, which is smooth at 0 (slope k/K from both sides), never divides by zero (K > 0), and
 // turns a numerical undershoot into production that pulls phi back to zero.
 KOKKOS_INLINE_FUNCTION Real monod_rate(Real k, Real K, Real phi) {
-  return k * phi / (K + Kokkos::fabs(phi));
+  return k * phi / (K + math::fabs(phi));
 }
 KOKKOS_INLINE_FUNCTION Real monod_rate_derivative(Real k, Real K, Real phi) {
-  const Real s = K + Kokkos::fabs(phi);
+  const Real s = K + math::fabs(phi);
   return k * K / (s * s);
 }
 
@@ -48,27 +49,27 @@ KOKKOS_INLINE_FUNCTION Real supg_tau(const Real c[3], const Real metric[3][3], R
     for (int j = 0; j < 3; ++j) cgc += c[i] * metric[i][j] * c[j];
   }
   if (c2 <= 0 || cgc <= 0) return 0;
-  const Real speed = Kokkos::sqrt(c2);
-  const Real h = 2 * speed / Kokkos::sqrt(cgc);
+  const Real speed = math::sqrt(c2);
+  const Real h = 2 * speed / math::sqrt(cgc);
   Real xi = 1;  // coth Pe - 1/Pe
   if (diffusivity > 0) {
     const Real pe = speed * h / (2 * diffusivity);
     if (pe < 1e-3)
       xi = pe / 3;
     else if (pe < 50)
-      xi = 1 / Kokkos::tanh(pe) - 1 / pe;
+      xi = 1 / math::tanh(pe) - 1 / pe;
     else
       xi = 1 - 1 / pe;
   }
   const Real tau_adv = h / (2 * speed) * xi;
   if (tau_adv <= 0) return 0;
   const Real inv2 = 1 / (tau_adv * tau_adv) + 4 * inv_dt * inv_dt;
-  return 1 / Kokkos::sqrt(inv2);
+  return 1 / math::sqrt(inv2);
 }
 
-// Element physics. Auxiliary nodal data: [phi_n, c_x, c_y, c_z].
+// Element physics. Auxiliary nodal data: [phi_n, c_x, c_y, c_z, s].
 struct TransportPhysics {
-  static constexpr int n_components = 1, n_aux = 4;
+  static constexpr int n_components = 1, n_aux = 5;
   TransportCoefficients coef;
   Real inv_dt = 0;  // 0: steady
   Real theta = 1;
@@ -106,7 +107,7 @@ struct TransportPhysics {
       conv_n += l.c[i] * g_n[i];
     }
     f0[0] = (u[0] - phi_n) * inv_dt + theta * (conv + reaction(l, u[0])) +
-            (1 - theta) * (conv_n + reaction(l, phi_n));
+            (1 - theta) * (conv_n + reaction(l, phi_n)) - q.aux[4];
     for (int i = 0; i < 3; ++i)
       f1[0][i] = l.D * (theta * gu[0][i] + (1 - theta) * g_n[i]) + l.tau * l.c[i] * f0[0];
   }
@@ -137,6 +138,31 @@ struct TransportBoundaryPhysics {
   KOKKOS_INLINE_FUNCTION void tangent(const Real aux[4], const Real[1], const Real du[1],
                                       Real df0[1]) const {
     df0[0] = aux[2] * theta * du[0];
+  }
+};
+
+}  // namespace biofsi
+
+namespace biofsi {
+
+// f0 = R(phi): with the element driver's residual, sum_a r_a = int R(phi) dV with the same
+// quadrature as the transport residual (for exact discrete mass balances).
+struct MonodIntegrand {
+  static constexpr int n_components = 1, n_aux = 0;
+  TransportCoefficients coef;
+  KOKKOS_INLINE_FUNCTION void residual(const QpData<0>& q, const Real u[1], const Real[1][3],
+                                       Real f0[1], Real f1[1][3]) const {
+    const Real k = coef.monod_rate[q.block];
+    f0[0] = k > 0 ? monod_rate(k, coef.monod_half_saturation[q.block], u[0]) : 0.0;
+    f1[0][0] = f1[0][1] = f1[0][2] = 0;
+  }
+  KOKKOS_INLINE_FUNCTION void tangent(const QpData<0>& q, const Real u[1], const Real[1][3],
+                                      const Real du[1], const Real[1][3], Real df0[1],
+                                      Real df1[1][3]) const {
+    const Real k = coef.monod_rate[q.block];
+    df0[0] =
+        k > 0 ? monod_rate_derivative(k, coef.monod_half_saturation[q.block], u[0]) * du[0] : 0.0;
+    df1[0][0] = df1[0][1] = df1[0][2] = 0;
   }
 };
 

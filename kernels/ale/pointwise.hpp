@@ -1,0 +1,49 @@
+// kernels/ale: pointwise physics of mesh motion — quasi-static pseudo-elasticity (paper eqs. 7,
+// 12, 13) for the mesh displacement d (3 components). Used by src/ale for the fluid mesh and the
+// biofilm (growth) mesh alike; depends on kernels/core only.
+//
+// Linear isotropic elasticity on the configuration the mesh has before the move, with the
+// stiffness scaled by (1/det J)^chi at each point (Jacobian-based stiffening, Stein-Tezduyar-Benney
+// 2003): small elements, which sit next to the moving interface, become stiffer and move almost
+// rigidly instead of being crushed. With Dirichlet data on the whole boundary only the ratio of
+// stiffnesses matters, so the reference volume in the scaling is immaterial.
+#pragma once
+
+#include "kernels/core/element_loop.hpp"
+
+namespace biofsi {
+
+struct PseudoElasticPhysics {
+  static constexpr int n_components = 3, n_aux = 0;
+  Real lambda = 0.5, mu = 1.0;  // Lame parameters of the pseudo-material (E = 1, nu ~ 0.2)
+  Real stiffening = 0.0;        // chi >= 0
+
+  KOKKOS_INLINE_FUNCTION Real scale(const QpData<0>& q) const {
+    if (stiffening == 0) return 1;
+    // pow through exp/log: det > 0 for any valid element (an inverted one is caught by the
+    // mesh-quality check before it gets here).
+    return math::exp(-stiffening * math::log(q.det));
+  }
+
+  // sigma = s (lambda tr(eps) I + 2 mu eps), eps = sym(grad d); linear, so the tangent is the same.
+  KOKKOS_INLINE_FUNCTION void stress(Real s, const Real g[3][3], Real sigma[3][3]) const {
+    const Real tr = g[0][0] + g[1][1] + g[2][2];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        sigma[i][j] = s * (mu * (g[i][j] + g[j][i]) + (i == j ? lambda * tr : 0.0));
+  }
+
+  KOKKOS_INLINE_FUNCTION void residual(const QpData<0>& q, const Real[3], const Real gu[3][3],
+                                       Real f0[3], Real f1[3][3]) const {
+    stress(scale(q), gu, f1);
+    f0[0] = f0[1] = f0[2] = 0;
+  }
+  KOKKOS_INLINE_FUNCTION void tangent(const QpData<0>& q, const Real[3], const Real[3][3],
+                                      const Real[3], const Real gdu[3][3], Real df0[3],
+                                      Real df1[3][3]) const {
+    stress(scale(q), gdu, df1);
+    df0[0] = df0[1] = df0[2] = 0;
+  }
+};
+
+}  // namespace biofsi

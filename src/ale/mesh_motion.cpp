@@ -1,0 +1,165 @@
+#include "ale/mesh_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "kernels/core/constraints.hpp"
+
+namespace biofsi {
+
+void MeshDisplacementBc::fix(const std::vector<int>& nodes, std::array<bool, 3> components) {
+  for (int n : nodes) {
+    auto& f = fixed[n];
+    for (int c = 0; c < 3; ++c) f[c] = f[c] || components[c];
+    value.emplace(n, Point{0, 0, 0});
+  }
+}
+
+void MeshDisplacementBc::prescribe(int node, const Point& d) {
+  fixed[node] = {true, true, true};
+  value[node] = d;
+}
+
+namespace {
+
+std::vector<int> all_elements(const Mesh& mesh) {
+  std::vector<int> e(mesh.n_elements());
+  for (int i = 0; i < mesh.n_elements(); ++i) e[i] = i;
+  return e;
+}
+
+AmgOptions systems_amg() {
+  AmgOptions o;
+  o.num_functions = 3;  // interleaved x, y, z per node: systems AMG with nodal coarsening
+  o.nodal_coarsening = true;
+  return o;
+}
+
+}  // namespace
+
+MeshMotion::MeshMotion(const Mesh& mesh, const MeshMotionSettings& settings)
+    : settings_(settings),
+      topology_(mesh),
+      dmesh_(to_device(mesh)),
+      groups_(make_element_groups(mesh, all_elements(mesh), settings.scatter)),
+      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, ConstNodalView{}, physics()),
+      matrix_(make_sparsity(mesh, all_elements(mesh), 3)),
+      amg_(systems_amg()) {}
+
+PseudoElasticPhysics MeshMotion::physics() const {
+  // E = 1: only stiffness ratios matter with Dirichlet data on the whole boundary.
+  const double nu = settings_.poisson_ratio;
+  PseudoElasticPhysics p;
+  p.lambda = nu / ((1 + nu) * (1 - 2 * nu));
+  p.mu = 1 / (2 * (1 + nu));
+  p.stiffening = settings_.stiffening;
+  return p;
+}
+
+void MeshMotion::bind(const Mesh& mesh) {
+  if (mesh.n_nodes() != topology_.n_nodes() || mesh.n_elements() != topology_.n_elements())
+    throw std::invalid_argument("mesh motion: the mesh changed its topology");
+  copy_coordinates_to_device(mesh, dmesh_.x);
+}
+
+void MeshMotion::residual(const Mesh& mesh, ConstVector d, Vector r) {
+  bind(mesh);
+  fill(r, 0);
+  op_.residual(groups_, d, r);
+}
+
+void MeshMotion::assemble(const Mesh& mesh, const CsrMatrix& a) {
+  bind(mesh);
+  fill(a.val, 0);
+  op_.assemble(groups_, Vector("biofsi::zero", 3 * mesh.n_nodes()), a);
+}
+
+std::vector<Point> MeshMotion::solve(const Mesh& mesh, const MeshDisplacementBc& bc,
+                                     const std::string& label, MeshMotionResult* result) {
+  bind(mesh);
+  const int nn = mesh.n_nodes(), n = 3 * nn;
+  // Constrained dofs and their values.
+  std::vector<int> dofs;
+  std::vector<double> values;
+  for (const auto& [node, mask] : bc.fixed)
+    for (int c = 0; c < 3; ++c)
+      if (mask[c]) {
+        dofs.push_back(3 * node + c);
+        values.push_back(bc.value.at(node)[c]);
+      }
+  Kokkos::View<char*, MemSpace> fixed("biofsi::mesh_fixed", n);
+  IndexView fixed_dofs("biofsi::mesh_fixed_dofs", dofs.size());
+  Vector d("biofsi::mesh_displacement", n);
+  {
+    auto fh = Kokkos::create_mirror_view(fixed);
+    auto ih = Kokkos::create_mirror_view(fixed_dofs);
+    auto dh = Kokkos::create_mirror_view(d);
+    for (size_t i = 0; i < dofs.size(); ++i) {
+      fh(dofs[i]) = 1;
+      ih(i) = dofs[i];
+      dh(dofs[i]) = values[i];
+    }
+    Kokkos::deep_copy(fixed, fh);
+    Kokkos::deep_copy(fixed_dofs, ih);
+    Kokkos::deep_copy(d, dh);
+  }
+  // One Newton step of a linear problem: K_ff delta_f = -(K d0)_f, delta_c = 0.
+  Vector rhs("biofsi::mesh_rhs", n), scratch("biofsi::mesh_scratch", n);
+  Vector delta("biofsi::mesh_delta", n);
+  const ElementGroups& groups = groups_;
+  const auto& op = op_;
+  fill(rhs, 0);
+  op.residual(groups, d, rhs);
+  scale(-1.0, rhs);
+  zero_constrained(fixed_dofs, rhs);
+  const ApplyFn apply = [&](ConstVector x, Vector y) {
+    copy(x, scratch);
+    zero_constrained(fixed_dofs, scratch);
+    fill(y, 0);
+    op.apply_tangent(groups, d, scratch, y);
+    copy_constrained(fixed_dofs, x, y);
+  };
+  fill(matrix_.val, 0);
+  op.assemble(groups, d, matrix_);
+  csr_eliminate_constrained(matrix_, fixed);
+  amg_.setup(matrix_);
+  const KrylovResult kr = cg(apply, amg_.as_function(), rhs, delta, settings_.krylov);
+  if (!kr.converged) {
+    std::ostringstream why;
+    why << "CG " << kr.reason << " after " << kr.iterations << " iterations (residual "
+        << kr.final_residual << " from " << kr.initial_residual << ")";
+    throw SolveError("mesh motion", label, why.str());
+  }
+  axpy(1.0, delta, d);
+  if (!all_finite(d)) throw SolveError("mesh motion", label, "non-finite displacement");
+  auto dh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d);
+  std::vector<Point> out(nn);
+  double max_d = 0;
+  for (int i = 0; i < nn; ++i) {
+    out[i] = {dh(3 * i), dh(3 * i + 1), dh(3 * i + 2)};
+    max_d = std::max(
+        max_d, std::sqrt(out[i][0] * out[i][0] + out[i][1] * out[i][1] + out[i][2] * out[i][2]));
+  }
+  if (result) {
+    result->krylov_iterations = kr.iterations;
+    result->max_displacement = max_d;
+  }
+  return out;
+}
+
+std::vector<QualityRange> mesh_quality_by_block(const Mesh& mesh) {
+  const auto q = scaled_jacobians(mesh);
+  std::vector<QualityRange> r(mesh.block_names.size());
+  for (int e = 0; e < mesh.n_elements(); ++e) {
+    QualityRange& b = r[mesh.element_block[e]];
+    if (q[e] < b.min || b.worst_element < 0) {
+      b.min = q[e];
+      b.worst_element = e;
+    }
+    b.max = std::max(b.max, q[e]);
+  }
+  return r;
+}
+
+}  // namespace biofsi

@@ -1,0 +1,76 @@
+// src/ale: mesh motion by quasi-static pseudo-elasticity (paper eqs. 7, 12, 13) — the fluid mesh
+// follows the interface, and in a growth step the biofilm mesh takes the grown interface as its
+// new reference. Matrix-free operator from kernels/ale, CG with systems BoomerAMG on the assembled
+// matrix. Also the mesh-quality check that stops a run before an inverted element is used.
+// What it may include: kernels/, src/mesh, src/solvers. src/growth and the driver depend on it.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "kernels/ale/pointwise.hpp"
+#include "mesh/mesh.hpp"
+#include "solvers/solvers.hpp"
+
+namespace biofsi {
+
+struct MeshMotionSettings {
+  double poisson_ratio = 0.3;  // of the pseudo-material, in [0, 0.5)
+  double stiffening = 1.0;     // chi in (1/det J)^chi, >= 0
+  KrylovOptions krylov{1e-10, 0.0, 500, 50};
+  Scatter scatter = Scatter::Colored;
+};
+
+// Prescribed mesh displacement: per node, a mask of fixed components and their values.
+struct MeshDisplacementBc {
+  std::map<int, std::array<bool, 3>> fixed;
+  std::map<int, Point> value;
+  // Fixes components of all nodes of a set to zero (walls); `components` e.g. {true,false,false}
+  // fixes only x (a wall x = const on which nodes may slide).
+  void fix(const std::vector<int>& nodes, std::array<bool, 3> components);
+  // Prescribes the full displacement of a node (overrides earlier fixes of that node).
+  void prescribe(int node, const Point& d);
+};
+
+struct MeshMotionResult {
+  int krylov_iterations = 0;
+  double max_displacement = 0;
+};
+
+class MeshMotion {
+ public:
+  MeshMotion(const Mesh& mesh, const MeshMotionSettings& settings);
+
+  // Solves for the displacement of every node given the boundary data, on the mesh's current
+  // coordinates, and returns it (host, per node). Throws SolveError (field "mesh motion") if the
+  // linear solve fails.
+  std::vector<Point> solve(const Mesh& mesh, const MeshDisplacementBc& bc, const std::string& label,
+                           MeshMotionResult* result = nullptr);
+
+  // Residual and tangent of the discrete operator (verification): r = K d with no constraints.
+  void residual(const Mesh& mesh, ConstVector d, Vector r);
+  void assemble(const Mesh& mesh, const CsrMatrix& a);
+  const CsrMatrix& pattern() const { return matrix_; }
+
+ private:
+  PseudoElasticPhysics physics() const;
+  void bind(const Mesh& mesh);
+
+  MeshMotionSettings settings_;
+  Mesh topology_;  // connectivity and blocks; coordinates refreshed on every solve
+  DeviceMesh dmesh_;
+  ElementGroups groups_;
+  ElementOperator<PseudoElasticPhysics> op_;
+  CsrMatrix matrix_;
+  BoomerAmg amg_;
+};
+
+// Range of the scaled Jacobian per block.
+struct QualityRange {
+  double min = 1, max = -1;
+  int worst_element = -1;
+};
+std::vector<QualityRange> mesh_quality_by_block(const Mesh& mesh);
+
+}  // namespace biofsi

@@ -1,0 +1,57 @@
+// src/growth: the growth model (paper eq. 11) and the growth step — interface velocity
+// v = K1 J - K2 sigma along the area-weighted nodal normal of the interface, the interface
+// displacement dt_bio v n (nodes where the interface meets a side wall slide along it), and the
+// pseudo-elastic motion of the biofilm and fluid meshes that takes the grown biofilm as the new
+// reference. What it may include: src/mesh, src/ale, src/solvers. The driver depends on it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ale/mesh_motion.hpp"
+#include "mesh/mesh.hpp"
+
+namespace biofsi {
+
+struct GrowthSettings {
+  std::string interface_set =
+      "biofilm_fluid";  // face set of the interface, faces on the biofilm side
+  double k1 = 0;        // growth per substrate flux density [mm / (amount / (mm^2 ms)) / ms]
+  double k2 = 0;        // erosion per wall shear stress
+  double dt_bio = 1;    // biological time step [ms]
+  // Face sets on which mesh nodes slide (normal displacement zero) and sets held fixed.
+  std::vector<std::string> sliding_walls = {"left", "right", "front", "back"};
+  std::vector<std::string> fixed_walls = {"bottom", "top"};
+  double min_quality = 0.02;  // smallest scaled Jacobian accepted after a move
+};
+
+// Area-weighted nodal normals of a face set, pointing out of the faces' elements, for the nodes of
+// node_sets[set] in that order.
+std::vector<Point> nodal_normals(const Mesh& mesh, const std::string& set);
+
+struct InterfaceMotion {
+  std::vector<int> nodes;           // interface nodes (node_sets[interface_set])
+  std::vector<double> velocity;     // v = K1 J - K2 sigma
+  std::vector<Point> displacement;  // dt_bio v n, projected onto sliding walls
+};
+
+// The interface displacement of one growth step from the flux density J into the biofilm and the
+// wall shear stress sigma at the interface nodes (same order as node_sets[interface_set]).
+InterfaceMotion interface_motion(const Mesh& mesh, const GrowthSettings& settings,
+                                 const std::vector<double>& flux_density,
+                                 const std::vector<double>& shear_stress);
+
+struct GrowthStepReport {
+  double max_interface_displacement = 0;
+  double mean_interface_displacement = 0;  // along y, the wall-normal direction of the box cases
+  int krylov_iterations = 0;
+  std::vector<QualityRange> quality;  // per block, after the move
+};
+
+// Moves `mesh` by one growth step. On a move that would leave an element below min_quality (or
+// inverted) the mesh is left unchanged and SolveError (field "growth") names the step, element,
+// block and quality.
+GrowthStepReport grow(Mesh& mesh, MeshMotion& motion, const GrowthSettings& settings,
+                      const InterfaceMotion& interface, const std::string& label);
+
+}  // namespace biofsi

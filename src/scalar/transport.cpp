@@ -1,0 +1,353 @@
+#include "scalar/transport.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "kernels/core/constraints.hpp"
+#include "kernels/core/integrands.hpp"
+
+namespace biofsi {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Accumulates the fenced wall time of a scope into `seconds`.
+class ScopedTimer {
+ public:
+  explicit ScopedTimer(double& seconds) : seconds_(seconds), start_(Clock::now()) {}
+  ~ScopedTimer() {
+    Kokkos::fence();
+    seconds_ += std::chrono::duration<double>(Clock::now() - start_).count();
+  }
+
+ private:
+  double& seconds_;
+  Clock::time_point start_;
+};
+
+Vector to_device_vector(const std::vector<double>& v, const std::string& label) {
+  Vector d(label, v.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+std::vector<double> to_host_vector(ConstVector d) {
+  auto h = Kokkos::create_mirror_view(d);
+  Kokkos::deep_copy(h, d);
+  return std::vector<double>(h.data(), h.data() + h.extent(0));
+}
+
+FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
+  FaceView d("biofsi::faces", faces.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < faces.size(); ++i) {
+    h(i, 0) = faces[i].element;
+    h(i, 1) = faces[i].local_face;
+  }
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+void set_aux_column(NodalView aux, int column, ConstVector values) {
+  Kokkos::parallel_for(
+      "biofsi::set_aux_column", Kokkos::RangePolicy<ExecSpace>(0, values.extent(0)),
+      KOKKOS_LAMBDA(int n) { aux(n, column) = values(n); });
+}
+
+template <class Physics>
+std::vector<double> nodal_integrals(const Mesh& mesh, const DeviceMesh& dm,
+                                    const std::vector<int>& elements, const Physics& physics,
+                                    ConstVector u) {
+  ElementOperator<Physics> op(dm.conn, dm.x, dm.element_block, ConstNodalView{}, physics);
+  Vector r("biofsi::nodal_integral", mesh.n_nodes());
+  op.residual(make_element_groups(mesh, elements, Scatter::Atomic), u, r);
+  return to_host_vector(r);
+}
+
+}  // namespace
+
+TransportField::TransportField(const Mesh& mesh, const TransportSettings& settings,
+                               std::vector<ScalarBoundaryCondition> conditions)
+    : mesh_(mesh),
+      settings_(settings),
+      dmesh_(to_device(mesh)),
+      all_elements_(mesh.n_elements()),
+      aux_("biofsi::scalar_aux", mesh.n_nodes(), 5),
+      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, TransportPhysics{}),
+      amg_(settings.amg) {
+  if (static_cast<int>(mesh.block_names.size()) > max_blocks)
+    throw std::invalid_argument("scalar transport supports at most " + std::to_string(max_blocks) +
+                                " blocks");
+  for (int e = 0; e < mesh.n_elements(); ++e) all_elements_[e] = e;
+  groups_ = make_element_groups(mesh_, all_elements_, settings_.scatter);
+  const int nn = mesh.n_nodes();
+  phi_ = Vector("biofsi::phi", nn);
+  phi_old_ = Vector("biofsi::phi_old", nn);
+  scratch_ = Vector("biofsi::scalar_scratch", nn);
+  matrix_ = make_sparsity(mesh_, all_elements_, 1);
+
+  for (auto& bc : conditions) {
+    if (!mesh_.face_sets.count(bc.set))
+      throw std::invalid_argument("scalar boundary condition on unknown set '" + bc.set + "'");
+    if (bc.kind == ScalarBcKind::Dirichlet) {
+      for (int n : mesh_.node_sets.at(bc.set)) dirichlet_[n] = bc.value;
+    } else {
+      FaceTerm term{bc, faces_to_device(mesh_.face_sets.at(bc.set)),
+                    NodalView("biofsi::face_aux", nn, 4),
+                    FaceOperator<TransportBoundaryPhysics>(ConstFaceView{}, dmesh_.conn, dmesh_.x,
+                                                           ConstNodalView{}, {})};
+      term.op = FaceOperator<TransportBoundaryPhysics>(term.faces, dmesh_.conn, dmesh_.x, term.aux,
+                                                       TransportBoundaryPhysics{});
+      faces_.push_back(std::move(term));
+    }
+  }
+  std::vector<int> fixed;
+  for (const auto& kv : dirichlet_) fixed.push_back(kv.first);
+  fixed_dofs_ = IndexView("biofsi::fixed_dofs", fixed.size());
+  {
+    auto h = Kokkos::create_mirror_view(fixed_dofs_);
+    for (size_t i = 0; i < fixed.size(); ++i) h(i) = fixed[i];
+    Kokkos::deep_copy(fixed_dofs_, h);
+  }
+  fixed_values_ = Vector("biofsi::fixed_values", fixed.size());
+  fixed_ = Kokkos::View<char*, MemSpace>("biofsi::fixed_mask", nn);
+  {
+    auto h = Kokkos::create_mirror_view(fixed_);
+    for (int n : fixed) h(n) = 1;
+    Kokkos::deep_copy(fixed_, h);
+  }
+  volume_weights_ = to_device_vector(
+      nodal_integrals(mesh_, dmesh_, all_elements_, UnitVolumeIntegrand{}, phi_), "biofsi::vol");
+}
+
+void TransportField::set_initial(const SpaceTimeFunction& phi0, double t0) {
+  std::vector<double> v(mesh_.n_nodes());
+  for (int n = 0; n < mesh_.n_nodes(); ++n) v[n] = phi0(mesh_.x[n], t0);
+  time_ = t0;
+  set_solution(v);
+}
+
+void TransportField::set_solution(const std::vector<double>& phi) {
+  if (static_cast<int>(phi.size()) != mesh_.n_nodes())
+    throw std::invalid_argument("scalar solution has the wrong size");
+  Kokkos::deep_copy(phi_, to_device_vector(phi, "biofsi::phi_in"));
+  copy(phi_, phi_old_);
+  set_aux_column(aux_, 0, phi_old_);
+}
+
+void TransportField::set_convective_velocity(const std::vector<Point>& c) {
+  if (static_cast<int>(c.size()) != mesh_.n_nodes())
+    throw std::invalid_argument("convective velocity has the wrong size");
+  auto h = Kokkos::create_mirror_view(aux_);
+  Kokkos::deep_copy(h, aux_);
+  has_convection_ = false;
+  for (int n = 0; n < mesh_.n_nodes(); ++n)
+    for (int d = 0; d < 3; ++d) {
+      h(n, 1 + d) = c[n][d];
+      has_convection_ = has_convection_ || c[n][d] != 0.0;
+    }
+  Kokkos::deep_copy(aux_, h);
+  preconditioner_current_ = false;
+}
+
+void TransportField::set_source(const SpaceTimeFunction& s) { source_ = s; }
+
+void TransportField::update_source(double t_eval) {
+  if (!source_) return;
+  std::vector<double> v(mesh_.n_nodes());
+  for (int n = 0; n < mesh_.n_nodes(); ++n) v[n] = source_(mesh_.x[n], t_eval);
+  set_aux_column(aux_, 4, to_device_vector(v, "biofsi::source"));
+}
+
+void TransportField::update_coordinates(const Mesh& mesh) {
+  if (mesh.n_nodes() != mesh_.n_nodes())
+    throw std::invalid_argument("moved mesh has a different number of nodes");
+  mesh_.x = mesh.x;
+  copy_coordinates_to_device(mesh_, dmesh_.x);
+  volume_weights_ = to_device_vector(
+      nodal_integrals(mesh_, dmesh_, all_elements_, UnitVolumeIntegrand{}, phi_), "biofsi::vol");
+  preconditioner_current_ = false;
+}
+
+std::vector<double> TransportField::solution_host() const { return to_host_vector(phi_); }
+
+void TransportField::impose_dirichlet(double t) {
+  auto h = Kokkos::create_mirror_view(fixed_values_);
+  size_t i = 0;
+  for (const auto& [node, f] : dirichlet_) h(i++) = f(mesh_.x[node], t);
+  Kokkos::deep_copy(fixed_values_, h);
+  set_constrained(fixed_dofs_, fixed_values_, phi_);
+}
+
+void TransportField::update_face_data(double t_eval) {
+  for (auto& f : faces_) {
+    auto h = Kokkos::create_mirror_view(f.aux);
+    for (int n : mesh_.node_sets.at(f.bc.set)) {
+      const double v = f.bc.value(mesh_.x[n], t_eval);
+      const bool robin = f.bc.kind == ScalarBcKind::Robin;
+      h(n, 1) = robin ? 0.0 : v;
+      h(n, 2) = robin ? f.bc.coefficient : 0.0;
+      h(n, 3) = robin ? v : 0.0;
+    }
+    Kokkos::deep_copy(f.aux, h);
+    set_aux_column(f.aux, 0, phi_old_);
+  }
+}
+
+void TransportField::set_step_physics(double inv_dt, double theta) {
+  TransportPhysics p;
+  p.coef = settings_.coefficients;
+  p.inv_dt = inv_dt;
+  p.theta = theta;
+  p.supg = settings_.supg;
+  op_.set_physics(p);
+  TransportBoundaryPhysics b;
+  b.theta = theta;
+  for (auto& f : faces_) f.op.set_physics(b);
+}
+
+void TransportField::residual(ConstVector phi, Vector r) const {
+  fill(r, 0);
+  op_.residual(groups_, phi, r);
+  for (const auto& f : faces_) f.op.residual(phi, r);
+  constrained_residual(fixed_dofs_, fixed_values_, phi, r);
+}
+
+void TransportField::apply_tangent(ConstVector phi, ConstVector dphi, Vector y) const {
+  copy(dphi, scratch_);
+  zero_constrained(fixed_dofs_, scratch_);
+  fill(y, 0);
+  op_.apply_tangent(groups_, phi, scratch_, y);
+  for (const auto& f : faces_) f.op.apply_tangent(phi, scratch_, y);
+  copy_constrained(fixed_dofs_, dphi, y);
+}
+
+void TransportField::setup_preconditioner(ConstVector phi) {
+  {
+    ScopedTimer t(stats_.seconds_assembly);
+    fill(matrix_.val, 0);
+    op_.assemble(groups_, phi, matrix_);
+    for (const auto& f : faces_) f.op.assemble(phi, matrix_);
+    csr_eliminate_constrained(matrix_, fixed_);
+  }
+  ScopedTimer t(stats_.seconds_amg_setup);
+  amg_.setup(matrix_);
+  ++stats_.amg_setups;
+}
+
+NewtonResult TransportField::advance(const std::string& label) {
+  NewtonSystem sys;
+  sys.residual = [this](ConstVector u, Vector r) {
+    ScopedTimer t(stats_.seconds_residual);
+    residual(u, r);
+  };
+  sys.tangent = [this](ConstVector u, ConstVector du, Vector y) {
+    ScopedTimer t(stats_.seconds_tangent);
+    apply_tangent(u, du, y);
+  };
+  sys.setup_preconditioner = [this](ConstVector u) {
+    if (preconditioner_current_ && !settings_.rebuild_preconditioner_each_iteration) return;
+    setup_preconditioner(u);
+    preconditioner_current_ = true;
+  };
+  sys.precondition = [this](ConstVector r, Vector z) { amg_.apply(r, z); };
+  sys.symmetric = !has_convection_;
+  NewtonResult result;
+  {
+    const auto start = Clock::now();
+    result = newton_solve(sys, phi_, settings_.newton);
+    Kokkos::fence();
+    stats_.seconds_solve += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  ++stats_.steps;
+  stats_.newton_iterations += result.iterations;
+  stats_.krylov_iterations += result.krylov_iterations;
+  if (!result.converged || !all_finite(phi_)) {
+    std::ostringstream why;
+    why << "Newton " << (result.converged ? "returned a non-finite solution" : result.reason)
+        << " after " << result.iterations << " iterations; residual history:";
+    for (double r : result.residual_history) why << ' ' << r;
+    copy(phi_old_, phi_);
+    throw SolveError("scalar", label, why.str());
+  }
+  return result;
+}
+
+NewtonResult TransportField::step(double dt, const std::string& label) {
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw SolveError("scalar", label, "time step must be positive and finite");
+  copy(phi_, phi_old_);
+  set_aux_column(aux_, 0, phi_old_);
+  set_step_physics(1.0 / dt, settings_.theta);
+  update_face_data(time_ + settings_.theta * dt);
+  update_source(time_ + settings_.theta * dt);
+  impose_dirichlet(time_ + dt);
+  // The matrix depends on dt and (through Monod) on phi; rebuild once per step.
+  preconditioner_current_ = false;
+  NewtonResult r = advance(label);
+  time_ += dt;
+  return r;
+}
+
+NewtonResult TransportField::solve_steady(const std::string& label) {
+  copy(phi_, phi_old_);
+  set_aux_column(aux_, 0, phi_old_);
+  set_step_physics(0.0, 1.0);
+  update_face_data(time_);
+  update_source(time_);
+  impose_dirichlet(time_);
+  preconditioner_current_ = false;
+  return advance(label);
+}
+
+double TransportField::integral(int block) const {
+  std::vector<double> w;
+  if (block < 0)
+    w = to_host_vector(volume_weights_);
+  else
+    w = nodal_integrals(mesh_, dmesh_, mesh_.elements_of_block(block), UnitVolumeIntegrand{}, phi_);
+  const auto phi = solution_host();
+  double s = 0;
+  for (size_t n = 0; n < phi.size(); ++n) s += w[n] * phi[n];
+  return s;
+}
+
+double TransportField::reaction_integral() const {
+  MonodIntegrand m;
+  m.coef = settings_.coefficients;
+  const auto r = nodal_integrals(mesh_, dmesh_, all_elements_, m, phi_);
+  double s = 0;
+  for (double v : r) s += v;
+  return s;
+}
+
+BoundaryFlux TransportField::boundary_flux(const std::string& set, int block) const {
+  if (!mesh_.face_sets.count(set))
+    throw std::invalid_argument("boundary flux requested on unknown set '" + set + "'");
+  const std::vector<int> elements = block < 0 ? all_elements_ : mesh_.elements_of_block(block);
+  Vector r("biofsi::flux_residual", mesh_.n_nodes());
+  op_.residual(make_element_groups(mesh_, elements, Scatter::Atomic), phi_, r);
+  const auto rh = to_host_vector(r);
+  Vector area("biofsi::lumped_area", mesh_.n_nodes());
+  FaceOperator<UnitAreaIntegrand> faces(faces_to_device(mesh_.face_sets.at(set)), dmesh_.conn,
+                                        dmesh_.x, ConstNodalView{}, UnitAreaIntegrand{});
+  faces.residual(phi_, area);
+  const auto ah = to_host_vector(area);
+  BoundaryFlux out;
+  out.nodes = mesh_.node_sets.at(set);
+  for (int n : out.nodes) {
+    out.nodal_flux.push_back(rh[n]);
+    out.lumped_area.push_back(ah[n]);
+    out.density.push_back(ah[n] > 0 ? rh[n] / ah[n] : 0.0);
+    out.total += rh[n];
+  }
+  return out;
+}
+
+}  // namespace biofsi

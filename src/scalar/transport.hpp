@@ -1,0 +1,141 @@
+// src/scalar: the substrate transport field (paper eqs. 8-10) on one continuous scalar over all
+// blocks — boundary conditions, time stepping (one-step-theta or steady), Newton-Krylov with
+// BoomerAMG, and the consistent boundary flux that the growth model reads.
+// What it may include: kernels/core, kernels/scalar, src/mesh, src/solvers. It knows nothing of
+// scene files (src/io) or the driver (src/app); those depend on it.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "kernels/core/face.hpp"
+#include "kernels/scalar/pointwise.hpp"
+#include "mesh/mesh.hpp"
+#include "solvers/solvers.hpp"
+
+namespace biofsi {
+
+// Value of a boundary or initial condition at a point and time.
+using SpaceTimeFunction = std::function<double(const Point& x, double t)>;
+
+enum class ScalarBcKind { Dirichlet, Flux, Robin };
+
+// On a named face set (its node set for Dirichlet):
+//   Dirichlet: phi = value;  Flux: D grad(phi).n_out = value (inward flux);
+//   Robin: D grad(phi).n_out = coefficient (value - phi).
+struct ScalarBoundaryCondition {
+  std::string set;
+  ScalarBcKind kind = ScalarBcKind::Dirichlet;
+  SpaceTimeFunction value;
+  double coefficient = 0;
+};
+
+struct TransportSettings {
+  TransportCoefficients coefficients;  // per block index
+  bool supg = true;
+  double theta = 0.66;
+  Scatter scatter = Scatter::Colored;
+  NewtonOptions newton;
+  AmgOptions amg;
+  // Rebuild the AMG hierarchy at every Newton iteration instead of once per time step.
+  bool rebuild_preconditioner_each_iteration = false;
+};
+
+// Consistent flux through a node set: the nodal reaction of the residual restricted to the
+// elements on one side, so it is the flux *into* those elements (and the storage and reaction they
+// contain, consistently with the discrete balance).
+struct BoundaryFlux {
+  std::vector<int> nodes;
+  std::vector<double> nodal_flux;   // r_a [amount/time]
+  std::vector<double> lumped_area;  // int_set N_a dA
+  std::vector<double> density;      // r_a / A_a [amount/(area time)]
+  double total = 0;                 // sum of nodal_flux
+};
+
+struct TransportStats {
+  int steps = 0, newton_iterations = 0, krylov_iterations = 0, amg_setups = 0;
+  double seconds_residual = 0, seconds_tangent = 0, seconds_assembly = 0, seconds_amg_setup = 0,
+         seconds_solve = 0;
+};
+
+class TransportField {
+ public:
+  TransportField(const Mesh& mesh, const TransportSettings& settings,
+                 std::vector<ScalarBoundaryCondition> conditions);
+
+  void set_initial(const SpaceTimeFunction& phi0, double t0);
+  void set_solution(const std::vector<double>& phi);
+  // Nodal ALE convective velocity c = u - u_grid (zero where not set).
+  void set_convective_velocity(const std::vector<Point>& c);
+  // Volumetric source s(x, t), evaluated at the nodes at t_{n+theta} of each step.
+  void set_source(const SpaceTimeFunction& s);
+  // The mesh has moved (ALE): take its current coordinates.
+  void update_coordinates(const Mesh& mesh);
+
+  // One-step-theta step from the current state at time t to t + dt. Throws SolveError (field
+  // "scalar", the step label) if Newton fails or the solution is not finite; the state is then
+  // left at the last valid solution.
+  NewtonResult step(double dt, const std::string& label);
+  // Steady problem at the current time.
+  NewtonResult solve_steady(const std::string& label);
+
+  double time() const { return time_; }
+  ConstVector solution() const { return phi_; }
+  std::vector<double> solution_host() const;
+  // Integral of phi over the blocks (all when block < 0).
+  double integral(int block = -1) const;
+  // Total consumption rate int R(phi) dV over all blocks, at the current solution.
+  double reaction_integral() const;
+
+  // Consistent flux through a named node set into the elements of `block` (all when < 0).
+  BoundaryFlux boundary_flux(const std::string& set, int block) const;
+
+  const TransportStats& stats() const { return stats_; }
+  const Mesh& mesh() const { return mesh_; }
+
+  // Residual and tangent of the current step (exposed for verification).
+  void residual(ConstVector phi, Vector r) const;
+  void apply_tangent(ConstVector phi, ConstVector dphi, Vector y) const;
+
+ private:
+  struct FaceTerm {
+    ScalarBoundaryCondition bc;
+    FaceView faces;
+    NodalView aux;  // [phi_n, h, alpha, phi_inf]
+    FaceOperator<TransportBoundaryPhysics> op;
+  };
+
+  NewtonResult advance(const std::string& label);
+  void impose_dirichlet(double t);
+  void update_face_data(double t_eval);
+  void setup_preconditioner(ConstVector phi);
+  void set_step_physics(double inv_dt, double theta);
+  void update_source(double t_eval);
+
+  Mesh mesh_;
+  TransportSettings settings_;
+  DeviceMesh dmesh_;
+  std::vector<int> all_elements_;
+  ElementGroups groups_;
+  NodalView aux_;  // [phi_n, c_x, c_y, c_z, s]
+  SpaceTimeFunction source_;
+  ElementOperator<TransportPhysics> op_;
+  std::vector<FaceTerm> faces_;
+  std::map<int, SpaceTimeFunction> dirichlet_;  // node -> value (later conditions win)
+  Kokkos::View<char*, MemSpace> fixed_;
+  IndexView fixed_dofs_;
+  Vector fixed_values_;
+  Vector phi_, phi_old_;
+  Vector scratch_;  // constrained-zeroed direction in apply_tangent
+  Vector volume_weights_;
+  CsrMatrix matrix_;
+  BoomerAmg amg_;
+  bool has_convection_ = false;
+  bool preconditioner_current_ = false;
+  double time_ = 0;
+  TransportStats stats_;
+};
+
+}  // namespace biofsi
