@@ -9,11 +9,14 @@
 //   KOKKOS_INLINE_FUNCTION void tangent(const QpData<n_aux>&, const Real u[NC],
 //       const Real gu[NC][3], const Real du[NC], const Real gdu[NC][3], Real df0[NC],
 //       Real df1[NC][3]) const;
+// and optionally `static constexpr int n_aux_gradients` (default n_aux): only the first that many
+// auxiliary columns get gradients in QpData, the rest values only (a third of the work each),
 // with the weak residual r_a = sum_q w detJ (N_a f0 + grad N_a . f1) and tangent the directional
 // derivative of (f0, f1) along du. Auxiliary nodal data (old solution, convective velocity, ...)
 // arrive interpolated with their gradients in QpData.
 #pragma once
 
+#include <type_traits>
 #include <vector>
 
 #include "csr.hpp"
@@ -43,6 +46,16 @@ struct ElementGroups {
 
 namespace detail {
 
+// Physics::n_aux_gradients if declared, else Physics::n_aux.
+template <class Physics, class = void>
+struct AuxGradients {
+  static constexpr int value = Physics::n_aux;
+};
+template <class Physics>
+struct AuxGradients<Physics, std::void_t<decltype(Physics::n_aux_gradients)>> {
+  static constexpr int value = Physics::n_aux_gradients;
+};
+
 KOKKOS_INLINE_FUNCTION void accumulate(bool atomic, Real* target, Real value) {
   if (atomic)
     Kokkos::atomic_add(target, value);
@@ -59,6 +72,7 @@ template <class Physics, class Basis>
 struct ElementLoop {
   static constexpr int NC = Physics::n_components, NA = Physics::n_aux;
   static constexpr int NN = Basis::n_nodes, NQ = Basis::n_qp;
+  static constexpr int NG = AuxGradients<Physics>::value;
 
   ConstIndexView elements;
   ConstConnView conn;
@@ -103,7 +117,11 @@ struct ElementLoop {
     Real ae[NAX][NN], aq[NAX][NQ], ga[NAX][NQ][3];
     for (int a = 0; a < NN; ++a)
       for (int c = 0; c < NA; ++c) ae[c][a] = aux(g.node[a], c);
-    interpolate_nodal(ae, NA, aq, ga, g.geo);
+    interpolate_nodal(ae, NG, aq, ga, g.geo);
+    for (int c = NG; c < NA; ++c) {
+      interpolate_values<Basis>(ae[c], aq[c]);
+      for (int q = 0; q < NQ; ++q) ga[c][q][0] = ga[c][q][1] = ga[c][q][2] = 0;
+    }
     const int block = element_block(e);
     for (int q = 0; q < NQ; ++q) {
       QpData<NA>& d = g.qp[q];

@@ -89,6 +89,17 @@ KOKKOS_INLINE_FUNCTION void interpolate_with_gradient(const Real* u, Real* val, 
   }
 }
 
+// Values only at the Q^3 points (three 1-D passes), for data whose gradient nobody reads.
+template <class Basis>
+KOKKOS_INLINE_FUNCTION void interpolate_values(const Real* u, Real* val) {
+  constexpr int P = Basis::P, Q = Basis::Q;
+  const BasisMatrix<Basis, false, false> b;
+  Real uB[Q * P * P], uBB[Q * Q * P];
+  contract<0, P, P, P, Q>(b, u, uB);
+  contract<1, Q, P, P, Q>(b, uB, uBB);
+  contract<2, Q, Q, P, Q>(b, uBB, val);
+}
+
 // Transpose of interpolate_with_gradient: out[P^3] = sum_q B^T f0[q] + D^T . f1[q] (reference
 // components), i.e. the test-function integration without weights (the caller folds them in).
 template <class Basis>

@@ -67,9 +67,9 @@ KOKKOS_INLINE_FUNCTION Real supg_tau(const Real c[3], const Real metric[3][3], R
   return 1 / math::sqrt(inv2);
 }
 
-// Element physics. Auxiliary nodal data: [phi_n, c_x, c_y, c_z, s].
+// Element physics. Auxiliary nodal data: [phi_n, c_x, c_y, c_z, s]; only phi_n needs a gradient.
 struct TransportPhysics {
-  static constexpr int n_components = 1, n_aux = 5;
+  static constexpr int n_components = 1, n_aux = 5, n_aux_gradients = 1;
   TransportCoefficients coef;
   Real inv_dt = 0;  // 0: steady
   Real theta = 1;

@@ -1,5 +1,7 @@
 // A scalar expression in x, y, z, t (muparser), e.g. "0.5 + 0.5*cos(0.2*_pi*x)"; `pi` and `_pi`
-// both mean pi. Host only; not thread-safe (one parser per object).
+// both mean pi. As papers write them, [] group like () and juxtaposition multiplies:
+// "[0.5+0.5cos(0.2 pi x)][1+cos(0.05 pi y)]" is read as "(0.5+0.5*cos(0.2*pi*x))*(1+cos(...))".
+// Host only; not thread-safe (one parser per object).
 #pragma once
 
 #include <memory>

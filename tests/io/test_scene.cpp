@@ -1,0 +1,493 @@
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "io/scene.hpp"
+
+namespace biofsi {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kFile = "scene.yaml";
+
+// Every key of the schema, none at its default.
+const std::string kFull = R"yaml(# a full scene
+mesh:
+  type: box
+  x: [-5, 5]
+  z: [-0.1, 0.1]
+  nx: 4
+  nz: 1
+  blocks:
+    - name: biofilm
+      y: [-5, -3]
+      ny: 2
+      grading: 1.5
+    - name: fluid
+      y: [-3, 5]
+      ny: 4
+materials:
+  biofilm:
+    diffusivity: 1.0e-4
+    monod_rate: 2.0e-4
+    monod_half_saturation: 0.1
+  fluid:
+    diffusivity: 2.0e-3
+fields:
+  scalar:
+    enabled: false
+    initial: "0.5 + 0.5*cos(0.2*_pi*x)"
+    velocity: ["0.1*y", "0", 0]
+    supg: false
+    boundary_conditions:
+      - {boundary: top, type: dirichlet, value: "0.5 + 0.5*cos(0.2*_pi*x)"}
+      - {boundary: left, type: neumann, flux: "0"}
+      - {boundary: right, type: robin, coefficient: 2.5, ambient: "0.3"}
+time:
+  mode: transient
+  dt: 0.5
+  steps: 10
+  theta: 0.75
+  steady_tolerance: 1.0e-8
+solver:
+  newton: {rel_tol: 1e-9, abs_tol: 1e-12, max_iterations: 30}
+  linear: {rel_tol: 1e-7, max_iterations: 400, restart: 40}
+  scatter: atomic
+output:
+  directory: results
+  every: 2
+  flux_boundaries: [biofilm_fluid, bottom]
+)yaml";
+
+// Only the required keys.
+const std::string kMinimal = R"yaml(mesh:
+  type: box
+  x: [0, 1]
+  z: [0, 0.1]
+  nx: 2
+  nz: 1
+  blocks:
+    - {name: fluid, y: [0, 1], ny: 2}
+materials:
+  fluid: {diffusivity: 1.0e-3}
+time:
+  dt: 1.0
+  steps: 3
+)yaml";
+
+// `text` with the single occurrence of `from` replaced by `to`.
+std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
+  const size_t p = text.find(from);
+  EXPECT_NE(p, std::string::npos) << "'" << from << "' not in the scene";
+  EXPECT_EQ(text.find(from, p + 1), std::string::npos) << "'" << from << "' is not unique";
+  if (p == std::string::npos) return text;
+  return text.substr(0, p) + to + text.substr(p + from.size());
+}
+
+// 1-based line of the first occurrence of `marker`.
+int line_of(const std::string& text, const std::string& marker) {
+  const size_t p = text.find(marker);
+  EXPECT_NE(p, std::string::npos) << "'" << marker << "' not in the scene";
+  return 1 +
+         static_cast<int>(std::count(text.begin(), text.begin() + std::min(p, text.size()), '\n'));
+}
+
+std::string error_of(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  try {
+    parse_scene(text, kFile, overrides);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the scene was accepted";
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+// The message names file and line, the dotted key, the offending value and the expectation.
+void expect_error(const std::string& text, int line, const std::string& key,
+                  const std::string& value, const std::string& expected,
+                  const std::vector<std::string>& overrides = {}) {
+  const std::string m = error_of(text, overrides);
+  EXPECT_EQ(m.rfind(kFile + ":" + std::to_string(line) + ": ", 0), 0u) << m;
+  EXPECT_TRUE(contains(m, ": " + key + ": ")) << m;
+  if (!value.empty()) {
+    EXPECT_TRUE(contains(m, "got '" + value + "'")) << m;
+  }
+  EXPECT_TRUE(contains(m, "expected " + expected)) << m;
+}
+
+TEST(Scene, ParsesEveryValueOfAFullScene) {
+  const Scene s = parse_scene(kFull, kFile);
+  EXPECT_EQ(s.file, kFile);
+  EXPECT_EQ(s.box.x0, -5);
+  EXPECT_EQ(s.box.x1, 5);
+  EXPECT_EQ(s.box.z0, -0.1);
+  EXPECT_EQ(s.box.z1, 0.1);
+  EXPECT_EQ(s.box.nx, 4);
+  EXPECT_EQ(s.box.nz, 1);
+  ASSERT_EQ(s.box.blocks.size(), 2u);
+  EXPECT_EQ(s.box.blocks[0].name, "biofilm");
+  EXPECT_EQ(s.box.blocks[0].y0, -5);
+  EXPECT_EQ(s.box.blocks[0].y1, -3);
+  EXPECT_EQ(s.box.blocks[0].ny, 2);
+  EXPECT_EQ(s.box.blocks[0].grading, 1.5);
+  EXPECT_EQ(s.box.blocks[1].name, "fluid");
+  EXPECT_EQ(s.box.blocks[1].y0, -3);
+  EXPECT_EQ(s.box.blocks[1].y1, 5);
+  EXPECT_EQ(s.box.blocks[1].ny, 4);
+  EXPECT_EQ(s.box.blocks[1].grading, 1.0);
+
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials.at("biofilm").diffusivity, 1.0e-4);
+  EXPECT_EQ(s.materials.at("biofilm").monod_rate, 2.0e-4);
+  EXPECT_EQ(s.materials.at("biofilm").monod_half_saturation, 0.1);
+  EXPECT_EQ(s.materials.at("fluid").diffusivity, 2.0e-3);
+  EXPECT_EQ(s.materials.at("fluid").monod_rate, 0);
+
+  EXPECT_FALSE(s.scalar.enabled);
+  EXPECT_EQ(s.scalar.initial, "0.5 + 0.5*cos(0.2*_pi*x)");
+  EXPECT_EQ(s.scalar.velocity, (std::array<std::string, 3>{"0.1*y", "0", "0"}));
+  EXPECT_FALSE(s.scalar.supg);
+  const auto& bcs = s.scalar.boundary_conditions;
+  ASSERT_EQ(bcs.size(), 3u);
+  EXPECT_EQ(bcs[0].boundary, "top");
+  EXPECT_EQ(bcs[0].type, BcType::Dirichlet);
+  EXPECT_EQ(bcs[0].value, "0.5 + 0.5*cos(0.2*_pi*x)");
+  EXPECT_EQ(bcs[0].line, line_of(kFull, "{boundary: top"));
+  EXPECT_EQ(bcs[1].boundary, "left");
+  EXPECT_EQ(bcs[1].type, BcType::Neumann);
+  EXPECT_EQ(bcs[1].value, "0");
+  EXPECT_EQ(bcs[2].boundary, "right");
+  EXPECT_EQ(bcs[2].type, BcType::Robin);
+  EXPECT_EQ(bcs[2].coefficient, 2.5);
+  EXPECT_EQ(bcs[2].value, "0.3");
+  EXPECT_EQ(bcs[2].line, line_of(kFull, "{boundary: right"));
+
+  EXPECT_EQ(s.time.mode, TimeMode::Transient);
+  EXPECT_EQ(s.time.dt, 0.5);
+  EXPECT_EQ(s.time.steps, 10);
+  EXPECT_EQ(s.time.theta, 0.75);
+  EXPECT_EQ(s.time.steady_tolerance, 1.0e-8);
+
+  EXPECT_EQ(s.solver.newton_rel_tol, 1e-9);
+  EXPECT_EQ(s.solver.newton_abs_tol, 1e-12);
+  EXPECT_EQ(s.solver.newton_max_iterations, 30);
+  EXPECT_EQ(s.solver.linear_rel_tol, 1e-7);
+  EXPECT_EQ(s.solver.linear_max_iterations, 400);
+  EXPECT_EQ(s.solver.linear_restart, 40);
+  EXPECT_EQ(s.solver.scatter, "atomic");
+
+  EXPECT_EQ(s.output.directory, "results");
+  EXPECT_EQ(s.output.every, 2);
+  EXPECT_EQ(s.output.flux_boundaries, (std::vector<std::string>{"biofilm_fluid", "bottom"}));
+}
+
+TEST(Scene, AppliesDefaultsWhenOptionalKeysAreAbsent) {
+  const Scene s = parse_scene(kMinimal, kFile);
+  const Scene d;
+  ASSERT_EQ(s.box.blocks.size(), 1u);
+  EXPECT_EQ(s.box.blocks[0].grading, 1.0);
+  EXPECT_EQ(s.materials.at("fluid").monod_rate, 0);
+  EXPECT_EQ(s.scalar.enabled, d.scalar.enabled);
+  EXPECT_EQ(s.scalar.initial, "0");
+  EXPECT_EQ(s.scalar.velocity, d.scalar.velocity);
+  EXPECT_EQ(s.scalar.supg, d.scalar.supg);
+  EXPECT_TRUE(s.scalar.boundary_conditions.empty());
+  EXPECT_EQ(s.time.mode, TimeMode::Transient);
+  EXPECT_EQ(s.time.theta, d.time.theta);
+  EXPECT_EQ(s.time.steady_tolerance, d.time.steady_tolerance);
+  EXPECT_EQ(s.solver.newton_rel_tol, d.solver.newton_rel_tol);
+  EXPECT_EQ(s.solver.newton_abs_tol, d.solver.newton_abs_tol);
+  EXPECT_EQ(s.solver.newton_max_iterations, d.solver.newton_max_iterations);
+  EXPECT_EQ(s.solver.linear_rel_tol, d.solver.linear_rel_tol);
+  EXPECT_EQ(s.solver.linear_max_iterations, d.solver.linear_max_iterations);
+  EXPECT_EQ(s.solver.linear_restart, d.solver.linear_restart);
+  EXPECT_EQ(s.solver.scatter, "colored");
+  EXPECT_EQ(s.output.directory, d.output.directory);
+  EXPECT_EQ(s.output.every, 1);
+  EXPECT_TRUE(s.output.flux_boundaries.empty());
+}
+
+TEST(Scene, SteadyModeNeedsNoTimeStep) {
+  const std::string text = replaced(kMinimal, "  dt: 1.0\n  steps: 3\n", "  mode: steady\n");
+  const Scene s = parse_scene(text, kFile);
+  EXPECT_EQ(s.time.mode, TimeMode::Steady);
+}
+
+TEST(Scene, RejectsAnUnknownTopLevelKey) {
+  const std::string text = kFull + "colour: blue\n";
+  expect_error(text, line_of(text, "colour"), "colour", "colour", "one of mesh, materials");
+}
+
+TEST(Scene, RejectsAnUnknownNestedKey) {
+  const std::string text = replaced(kFull, "  steps: 10\n", "  steps: 10\n  dtt: 1\n");
+  expect_error(text, line_of(text, "dtt"), "time.dtt", "dtt", "one of mode, dt, steps");
+  const std::string bc = replaced(kFull, "flux: \"0\"}", "flux: \"0\", value: \"1\"}");
+  expect_error(bc, line_of(bc, "{boundary: left"), "fields.scalar.boundary_conditions[1].value",
+               "value", "one of boundary, type, flux");
+}
+
+TEST(Scene, RejectsAStringWhereANumberIsExpected) {
+  const std::string text = replaced(kFull, "dt: 0.5", "dt: fast");
+  expect_error(text, line_of(text, "dt: fast"), "time.dt", "fast", "a finite number > 0");
+  // Quoting makes a string even of digits: no silent conversion.
+  const std::string quoted = replaced(kFull, "dt: 0.5", "dt: \"0.5\"");
+  expect_error(quoted, line_of(quoted, "dt: "), "time.dt", "0.5", "a finite number > 0");
+}
+
+TEST(Scene, RejectsAMapWhereAListIsExpected) {
+  const std::string text =
+      replaced(kFull, "flux_boundaries: [biofilm_fluid, bottom]", "flux_boundaries: {a: 1}");
+  expect_error(text, line_of(text, "flux_boundaries"), "output.flux_boundaries", "{a: 1}",
+               "a list of face set names");
+  const std::string blocks =
+      replaced(kMinimal, "    - {name: fluid, y: [0, 1], ny: 2}", "    name: fluid");
+  expect_error(blocks, line_of(blocks, "name: fluid"), "mesh.blocks", "{name: fluid}",
+               "a list of 1 to 8 blocks");
+}
+
+TEST(Scene, RejectsAFloatWhereAnIntegerIsExpected) {
+  const std::string text = replaced(kFull, "nx: 4", "nx: 4.0");
+  expect_error(text, line_of(text, "nx: 4.0"), "mesh.nx", "4.0", "an integer >= 1");
+}
+
+TEST(Scene, RejectsANonBooleanFlag) {
+  const std::string text = replaced(kFull, "supg: false", "supg: maybe");
+  expect_error(text, line_of(text, "supg"), "fields.scalar.supg", "maybe", "true or false");
+}
+
+TEST(Scene, RejectsAMissingRequiredKeyAtItsParentsLine) {
+  const std::string text = replaced(kFull, "  dt: 0.5\n", "");
+  const std::string m = error_of(text);
+  expect_error(text, line_of(text, "mode: transient"), "time.dt", "", "a finite number > 0");
+  EXPECT_TRUE(contains(m, "missing required key")) << m;
+  const std::string ny = replaced(kFull, "      ny: 4\n", "");
+  expect_error(ny, line_of(ny, "name: fluid"), "mesh.blocks[1].ny", "", "an integer >= 1");
+  const std::string time = replaced(kMinimal, "time:\n  dt: 1.0\n  steps: 3\n", "");
+  expect_error(time, 1, "time", "", "a map");
+}
+
+TEST(Scene, RejectsANegativeDiffusivity) {
+  const std::string text = replaced(kFull, "diffusivity: 1.0e-4", "diffusivity: -1.0e-4");
+  expect_error(text, line_of(text, "-1.0e-4"), "materials.biofilm.diffusivity", "-1.0e-4",
+               "a number > 0");
+}
+
+TEST(Scene, RejectsANonPositiveTimeStep) {
+  for (const std::string dt : {"0", "-0.5", ".inf"}) {
+    const std::string text = replaced(kFull, "dt: 0.5", "dt: " + dt);
+    expect_error(text, line_of(text, "dt: "), "time.dt", dt, "a finite number > 0");
+  }
+}
+
+TEST(Scene, RejectsThetaOutsideHalfToOne) {
+  for (const std::string theta : {"0.4", "1.2"}) {
+    const std::string text = replaced(kFull, "theta: 0.75", "theta: " + theta);
+    expect_error(text, line_of(text, "theta"), "time.theta", theta, "a number in [0.5, 1]");
+  }
+  EXPECT_EQ(parse_scene(replaced(kFull, "theta: 0.75", "theta: 0.5"), kFile).time.theta, 0.5);
+  EXPECT_EQ(parse_scene(replaced(kFull, "theta: 0.75", "theta: 1"), kFile).time.theta, 1.0);
+}
+
+TEST(Scene, RejectsZeroSteps) {
+  const std::string text = replaced(kFull, "steps: 10", "steps: 0");
+  expect_error(text, line_of(text, "steps: 0"), "time.steps", "0", "an integer >= 1");
+}
+
+TEST(Scene, RejectsBlocksThatAreNotContiguous) {
+  const std::string text = replaced(kFull, "y: [-3, 5]", "y: [-2.5, 5]");
+  expect_error(text, line_of(text, "y: [-2.5, 5]"), "mesh.blocks[1].y", "[-2.5, 5]",
+               "y0 = -3 (where block 'biofilm' ends)");
+}
+
+TEST(Scene, RejectsABlockWithoutMaterial) {
+  const std::string text = replaced(kFull, "  fluid:\n    diffusivity: 2.0e-3\n", "");
+  const std::string m = error_of(text);
+  expect_error(text, line_of(text, "  biofilm:\n    diffusivity"), "materials.fluid", "",
+               "a map with diffusivity");
+  EXPECT_TRUE(contains(m, "missing required key")) << m;
+}
+
+TEST(Scene, RejectsAMaterialForAnUnknownBlock) {
+  const std::string text = replaced(kFull, "    diffusivity: 2.0e-3\n",
+                                    "    diffusivity: 2.0e-3\n  sludge: {diffusivity: 1}\n");
+  expect_error(text, line_of(text, "sludge"), "materials.sludge", "sludge",
+               "one of the blocks biofilm, fluid");
+}
+
+TEST(Scene, RejectsAnUnknownBoundaryName) {
+  const std::string text = replaced(kFull, "boundary: top", "boundary: roof");
+  expect_error(text, line_of(text, "roof"), "fields.scalar.boundary_conditions[0].boundary", "roof",
+               "a face set of the mesh: ");
+  EXPECT_TRUE(contains(error_of(text), "biofilm_fluid")) << "the message lists the names";
+  const std::string flux = replaced(kFull, "[biofilm_fluid, bottom]", "[biofilm_fluid, floor]");
+  expect_error(flux, line_of(flux, "floor"), "output.flux_boundaries[1]", "floor",
+               "a face set of the mesh: ");
+}
+
+TEST(Scene, RejectsAnUnknownBoundaryConditionType) {
+  const std::string text = replaced(kFull, "type: neumann", "type: newman");
+  expect_error(text, line_of(text, "newman"), "fields.scalar.boundary_conditions[1].type", "newman",
+               "one of dirichlet, neumann, robin");
+}
+
+TEST(Scene, RejectsAnExpressionWithASyntaxError) {
+  const std::string text =
+      replaced(kFull, "initial: \"0.5 + 0.5*cos(0.2*_pi*x)\"", "initial: \"0.5 + *x\"");
+  expect_error(text, line_of(text, "initial"), "fields.scalar.initial", "0.5 + *x",
+               "an expression in x, y, z, t");
+  const std::string value =
+      replaced(kFull, "value: \"0.5 + 0.5*cos(0.2*_pi*x)\"}", "value: \"cos(x\"}");
+  expect_error(value, line_of(value, "cos(x\""), "fields.scalar.boundary_conditions[0].value",
+               "cos(x", "an expression in x, y, z, t");
+}
+
+TEST(Scene, RejectsAnExpressionWithAnUnknownVariable) {
+  const std::string text = replaced(kFull, "[\"0.1*y\", \"0\", 0]", "[\"0.1*w\", \"0\", 0]");
+  expect_error(text, line_of(text, "velocity"), "fields.scalar.velocity[0]", "0.1*w",
+               "an expression in x, y, z, t");
+  EXPECT_TRUE(contains(error_of(text), "unknown variable 'w'")) << error_of(text);
+}
+
+TEST(Scene, RejectsAMonodRateWithoutHalfSaturation) {
+  const std::string text = replaced(kFull, "    monod_half_saturation: 0.1\n", "");
+  const std::string m = error_of(text);
+  expect_error(text, line_of(text, "diffusivity: 1.0e-4"),
+               "materials.biofilm.monod_half_saturation", "", "a number > 0");
+  EXPECT_TRUE(contains(m, "monod_rate > 0")) << m;
+}
+
+TEST(Scene, RejectsAnUnknownScatterPolicy) {
+  const std::string text = replaced(kFull, "scatter: atomic", "scatter: greedy");
+  expect_error(text, line_of(text, "greedy"), "solver.scatter", "greedy", "one of colored, atomic");
+}
+
+TEST(Scene, RejectsDuplicateKeys) {
+  const std::string text = replaced(kFull, "  steps: 10\n", "  steps: 10\n  dt: 2\n");
+  expect_error(text, line_of(text, "dt: 2"), "time.dt", "dt", "each key once");
+}
+
+TEST(Scene, RejectsBlockNamesWhoseFaceSetsCollide) {
+  // "a" below "left": the interface "a_left" would merge with a's left side.
+  const std::string text =
+      replaced(kMinimal, "    - {name: fluid, y: [0, 1], ny: 2}",
+               "    - {name: a, y: [0, 1], ny: 2}\n    - {name: left, y: [1, 2], ny: 2}");
+  const std::string m = error_of(text);
+  EXPECT_TRUE(contains(m, "a_left")) << m;
+}
+
+TEST(Scene, ReportsAYamlSyntaxErrorWithItsLine) {
+  const std::string text = replaced(kFull, "  steps: 10\n", "  steps: [10\n");
+  const std::string m = error_of(text);
+  EXPECT_EQ(m.rfind(kFile + ":", 0), 0u) << m;
+  EXPECT_TRUE(contains(m, "YAML syntax error")) << m;
+  const std::string tab = replaced(kFull, "  nz: 1\n", "  nz: 1\n nz2: x: y\n");
+  const std::string t = error_of(tab);
+  EXPECT_EQ(t.rfind(kFile + ":" + std::to_string(line_of(tab, "nz2")) + ":", 0), 0u) << t;
+}
+
+class SceneFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("biofsi_test_scene_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  fs::path dir_;
+};
+
+TEST_F(SceneFile, LoadsAFileAndNamesItInMessages) {
+  const std::string path = write("full.yaml", kFull);
+  EXPECT_EQ(load_scene(path).file, path);
+  EXPECT_EQ(load_scene(path, {"time.dt=0.125"}).time.dt, 0.125);
+  const std::string bad = write("bad.yaml", replaced(kFull, "steps: 10", "steps: 0"));
+  try {
+    load_scene(bad);
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(bad + ":" + std::to_string(line_of(kFull, "steps")), 0),
+              0u)
+        << e.what();
+  }
+}
+
+TEST_F(SceneFile, ReportsAMissingFile) {
+  const std::string path = (dir_ / "nope.yaml").string();
+  try {
+    load_scene(path);
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_TRUE(contains(e.what(), path)) << e.what();
+    EXPECT_TRUE(contains(e.what(), "cannot read")) << e.what();
+  }
+  EXPECT_THROW(load_scene(dir_.string()), SceneError);
+}
+
+TEST(SceneOverrides, ChangeValuesIncludingListEntries) {
+  const Scene s = parse_scene(
+      kFull, kFile,
+      {"time.dt=0.25", "mesh.blocks.1.ny=40", "mesh.blocks[0].grading=2", "fields.scalar.supg=true",
+       R"(fields.scalar.velocity=["1", 0, "t"])", "fields.scalar.boundary_conditions.0.value=0.75",
+       "output.flux_boundaries.1=top", "solver.newton.max_iterations=7", "time.mode = steady"});
+  EXPECT_EQ(s.time.dt, 0.25);
+  EXPECT_EQ(s.box.blocks[1].ny, 40);
+  EXPECT_EQ(s.box.blocks[0].grading, 2.0);
+  EXPECT_TRUE(s.scalar.supg);
+  EXPECT_EQ(s.scalar.velocity, (std::array<std::string, 3>{"1", "0", "t"}));
+  EXPECT_EQ(s.scalar.boundary_conditions[0].value, "0.75");
+  EXPECT_EQ(s.output.flux_boundaries, (std::vector<std::string>{"biofilm_fluid", "top"}));
+  EXPECT_EQ(s.solver.newton_max_iterations, 7);
+  EXPECT_EQ(s.time.mode, TimeMode::Steady);
+  EXPECT_EQ(s.time.steps, 10);  // untouched
+}
+
+TEST(SceneOverrides, LaterOverridesWin) {
+  EXPECT_EQ(parse_scene(kFull, kFile, {"time.dt=0.25", "time.dt=2"}).time.dt, 2.0);
+}
+
+TEST(SceneOverrides, CreateMissingMaps) {
+  const Scene s = parse_scene(
+      kMinimal, kFile,
+      {"solver.linear.restart=10", "fields.scalar.initial=x*y", "output.directory=elsewhere"});
+  EXPECT_EQ(s.solver.linear_restart, 10);
+  EXPECT_EQ(s.scalar.initial, "x*y");
+  EXPECT_EQ(s.output.directory, "elsewhere");
+}
+
+TEST(SceneOverrides, AreValidatedLikeTheFileAndNamedInMessages) {
+  const std::string m = error_of(kFull, {"time.dt=-1"});
+  expect_error(kFull, line_of(kFull, "dt: 0.5"), "time.dt", "-1", "a finite number > 0",
+               {"time.dt=-1"});
+  EXPECT_TRUE(contains(m, "--set time.dt=-1")) << m;
+  const std::string unknown = error_of(kFull, {"time.foo=1"});
+  EXPECT_TRUE(contains(unknown, "time.foo: unknown key")) << unknown;
+  EXPECT_TRUE(contains(unknown, "--set time.foo=1")) << unknown;
+  const std::string created = error_of(kMinimal, {"materials.sludge.diffusivity=1"});
+  EXPECT_TRUE(contains(created, "materials.sludge")) << created;
+  EXPECT_TRUE(contains(created, "--set materials.sludge.diffusivity=1")) << created;
+}
+
+TEST(SceneOverrides, RejectMalformedOverridesNamingThem) {
+  for (const std::string bad :
+       {"time.dt", "=1", " =1", "time..dt=1", "mesh.blocks.5.ny=3", "mesh.blocks[2].ny=3",
+        "time.dt.x=1", "mesh.blocks.first.ny=1", "time[0]=1", "time.dt=[1", "mesh.nx[0]=1"}) {
+    const std::string m = error_of(kFull, {bad});
+    EXPECT_EQ(m.rfind("--set " + bad + ": ", 0), 0u) << m;
+  }
+  EXPECT_TRUE(contains(error_of(kFull, {"mesh.blocks.5.ny=3"}), "out of range"));
+  EXPECT_TRUE(contains(error_of(kFull, {"time.dt"}), "missing '='"));
+}
+
+}  // namespace
+}  // namespace biofsi
