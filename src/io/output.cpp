@@ -251,6 +251,26 @@ void XdmfWriter::write_index() const {
   write_file_atomically(index_path_, x.str());
 }
 
+void write_h5_datasets(const std::string& path,
+                       const std::vector<std::pair<std::string, std::vector<double>>>& datasets) {
+  const std::string tmp = path + ".tmp";
+  try {
+    H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (!file.ok()) throw std::runtime_error(tmp + ": cannot create the HDF5 file");
+    for (const auto& [name, values] : datasets)
+      write_dataset(file.get(), tmp, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                    {static_cast<hsize_t>(values.size())},
+                    values.empty() ? nullptr : values.data());
+    if (!file.close()) throw std::runtime_error(tmp + ": cannot close the HDF5 file");
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      throw std::runtime_error("cannot rename " + tmp + " to " + path);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+}
+
 std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset) {
   if (!fs::is_regular_file(h5_path)) throw std::runtime_error(h5_path + ": no such file");
   H5Handle file(H5Fopen(h5_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);

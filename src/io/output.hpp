@@ -42,6 +42,10 @@ class XdmfWriter {
   void write_index() const;
 };
 
+// Writes named one-dimensional double datasets to `path` through a temporary file (checkpoints).
+void write_h5_datasets(const std::string& path,
+                       const std::vector<std::pair<std::string, std::vector<double>>>& datasets);
+
 // Reads one dataset of a written step back (tests, restart, post-processing).
 std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset);
 

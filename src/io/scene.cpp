@@ -518,8 +518,72 @@ void read_output(const Checker& c, const Node& node, const std::set<std::string>
         boundary_name(c, (*fb)[i], index_key(m.key("flux_boundaries"), i), face_sets));
 }
 
+std::vector<std::string> face_set_list(const Checker& c, const Node& n, const std::string& key,
+                                       const std::set<std::string>& face_sets) {
+  std::vector<std::string> out;
+  if (!n.IsSequence()) c.wrong_type(n, key, "a list of face set names");
+  for (size_t i = 0; i < n.size(); ++i)
+    out.push_back(boundary_name(c, n[i], index_key(key, i), face_sets));
+  return out;
+}
+
+void read_growth(const Checker& c, const Node& node, const std::set<std::string>& face_sets,
+                 Scene& scene) {
+  if (!node.IsDefined() || node.IsNull()) return;
+  MapView m(c, node, "growth",
+            {"enabled", "interface", "biofilm_block", "k1", "k2", "dt_bio", "steps", "averaging",
+             "window", "output_every", "checkpoint"});
+  GrowthSpec& g = scene.growth;
+  g.enabled = get_bool(m, "enabled", true);
+  g.interface =
+      boundary_name(c, m.require("interface", "the face set of the biofilm-fluid interface"),
+                    m.key("interface"), face_sets);
+  std::vector<std::string> blocks;
+  for (const auto& b : scene.box.blocks) blocks.push_back(b.name);
+  g.biofilm_block = get_choice(m, "biofilm_block", blocks, std::nullopt);
+  // The interface's faces belong to the block below it; that block is the one that grows.
+  const auto& bs = scene.box.blocks;
+  for (size_t i = 0; i + 1 < bs.size(); ++i)
+    if (g.interface == bs[i].name + "_" + bs[i + 1].name && g.biofilm_block != bs[i].name)
+      c.fail(*m.get("biofilm_block"), m.key("biofilm_block"),
+             "the interface's faces belong to block '" + bs[i].name + "'", g.biofilm_block,
+             "'" + bs[i].name + "'");
+  auto nonnegative = [](double v) { return v >= 0; };
+  g.k1 = get_number(m, "k1", nonnegative,
+                    "a number >= 0 [mm per ms per unit flux density] (growth by substrate flux)",
+                    std::nullopt);
+  g.k2 = get_number(m, "k2", nonnegative, "a number >= 0 (erosion by shear stress)", 0.0);
+  g.dt_bio = get_number(
+      m, "dt_bio", [](double v) { return v > 0; }, "a finite number > 0 [ms]", std::nullopt);
+  g.steps = get_int(m, "steps", 1, std::nullopt);
+  g.averaging = get_choice(m, "averaging", {"stationary", "window"}, g.averaging);
+  g.window = get_int(m, "window", 1, g.window);
+  g.output_every = get_int(m, "output_every", 1, g.output_every);
+  g.checkpoint = get_bool(m, "checkpoint", g.checkpoint);
+}
+
+void read_mesh_motion(const Checker& c, const Node& node, const std::set<std::string>& face_sets,
+                      Scene& scene) {
+  MapView m(c, node, "mesh_motion",
+            {"stiffening", "poisson_ratio", "min_quality", "sliding_walls", "fixed_walls"});
+  MeshMotionSpec& mm = scene.mesh_motion;
+  mm.stiffening = get_number(
+      m, "stiffening", [](double v) { return v >= 0; }, "a number >= 0", mm.stiffening);
+  mm.poisson_ratio = get_number(
+      m, "poisson_ratio", [](double v) { return v >= 0 && v < 0.5; }, "a number in [0, 0.5)",
+      mm.poisson_ratio);
+  mm.min_quality = get_number(
+      m, "min_quality", [](double v) { return v > 0 && v < 1; },
+      "a number in (0, 1) (smallest scaled Jacobian)", mm.min_quality);
+  if (auto n = m.get("sliding_walls"))
+    mm.sliding_walls = face_set_list(c, *n, m.key("sliding_walls"), face_sets);
+  if (auto n = m.get("fixed_walls"))
+    mm.fixed_walls = face_set_list(c, *n, m.key("fixed_walls"), face_sets);
+}
+
 Scene read_scene(const Node& root, const Checker& c) {
-  const std::vector<std::string> top = {"mesh", "materials", "fields", "time", "solver", "output"};
+  const std::vector<std::string> top = {"mesh",   "materials", "fields", "time",
+                                        "solver", "output",    "growth", "mesh_motion"};
   if (!root.IsDefined() || root.IsNull())
     c.fail(root, "", "the scene is empty", std::nullopt, "a map with keys " + join_list(top));
   MapView m(c, root, "", top, "a map with keys " + join_list(top));
@@ -542,6 +606,8 @@ Scene read_scene(const Node& root, const Checker& c) {
   read_time(c, m.require("time", "a map with dt [ms] and steps"), scene);
   read_solver(c, m.get("solver").value_or(Node()), scene);
   read_output(c, m.get("output").value_or(Node()), face_sets, scene);
+  read_growth(c, m.get("growth").value_or(Node()), face_sets, scene);
+  read_mesh_motion(c, m.get("mesh_motion").value_or(Node()), face_sets, scene);
   return scene;
 }
 

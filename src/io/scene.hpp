@@ -73,6 +73,30 @@ struct OutputSpec {
   std::vector<std::string> flux_boundaries;  // report the consistent flux through these sets
 };
 
+// The multi-scale growth loop (paper sections 4-5): after each inner loop (time.dt, time.steps,
+// time.steady_tolerance) the interface moves by dt_bio (k1 J - k2 sigma) n.
+struct GrowthSpec {
+  bool enabled = false;                  // true when the scene has a growth section
+  std::string interface;                 // face set of the biofilm-fluid interface
+  std::string biofilm_block;             // the block that grows (owns the interface faces)
+  double k1 = 0, k2 = 0;                 // >= 0
+  double dt_bio = 0;                     // > 0 [ms]
+  int steps = 0;                         // >= 1
+  std::string averaging = "stationary";  // stationary | window
+  int window = 1;                        // inner steps averaged when averaging = window
+  int output_every = 1;                  // HDF5 every K growth steps (and the last)
+  bool checkpoint = true;                // checkpoint after every growth step
+};
+
+// Pseudo-elastic mesh motion of the growth step.
+struct MeshMotionSpec {
+  double stiffening = 1.0;     // >= 0, exponent of (1/det J)
+  double poisson_ratio = 0.3;  // in [0, 0.5)
+  double min_quality = 0.02;   // in (0, 1): smallest scaled Jacobian accepted
+  std::vector<std::string> sliding_walls = {"left", "right", "front", "back"};
+  std::vector<std::string> fixed_walls = {"bottom", "top"};
+};
+
 struct Scene {
   std::string file;                               // path the scene was read from
   BoxSpec box;                                    // mesh: the structured multi-block box generator
@@ -81,6 +105,8 @@ struct Scene {
   TimeSpec time;
   SolverSpec solver;
   OutputSpec output;
+  GrowthSpec growth;
+  MeshMotionSpec mesh_motion;
 };
 
 // Reads and validates a scene. `overrides` are "dotted.key=value" strings (e.g. "time.dt=0.5",

@@ -55,6 +55,10 @@ struct AmgOptions {
   Real strong_threshold = 0.25;
   int max_levels = 25;
   int cycles = 1;  // V-cycles per preconditioner application
+  // Levels of aggressive coarsening from the finest level down: a cheaper set-up for a few more
+  // iterations (48^3 Poisson, 2 cores: set-up 0.43 s -> 0.16 s, AMG-CG 8 -> 11 iterations), worth
+  // it where the hierarchy is rebuilt every Newton iteration.
+  int aggressive_levels = 0;
   int print_level = 0;
 };
 

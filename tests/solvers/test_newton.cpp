@@ -1,0 +1,288 @@
+// Newton's method: quadratic convergence with tight forcing, Eisenstat-Walker forcing saving
+// Krylov work, the line search globalising a problem on which plain Newton diverges, and failures
+// (NaN, no linear progress, iteration limit) reported through the result instead of exceptions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+
+#include "solvers/solvers.hpp"
+#include "test_matrices.hpp"
+
+using namespace biofsi;
+using namespace biofsi::test;
+
+namespace {
+
+KOKKOS_INLINE_FUNCTION Real arctan(Real x) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::atan(x);
+#else
+  return Kokkos::Experimental::atan(x);
+#endif
+}
+
+KOKKOS_INLINE_FUNCTION Real square_root(Real x) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::sqrt(x);
+#else
+  return Kokkos::Experimental::sqrt(x);
+#endif
+}
+
+using Policy = Kokkos::RangePolicy<ExecSpace>;
+
+// ---- A u + c u^3 = f: a discrete semilinear elliptic problem (A: scaled 7-point Laplacian) ----
+
+void cubic_residual(const CsrMatrix& a, Real c, ConstVector f, ConstVector u, Vector r) {
+  csr_multiply(a, u, r);
+  Kokkos::parallel_for(
+      "test::cubic_residual", Policy(0, a.n_rows),
+      KOKKOS_LAMBDA(int i) { r(i) += c * u(i) * u(i) * u(i) - f(i); });
+}
+
+void cubic_tangent(const CsrMatrix& a, Real c, ConstVector u, ConstVector du, Vector y) {
+  csr_multiply(a, du, y);
+  Kokkos::parallel_for(
+      "test::cubic_tangent", Policy(0, a.n_rows),
+      KOKKOS_LAMBDA(int i) { y(i) += 3 * c * u(i) * u(i) * du(i); });
+}
+
+// The assembled Jacobian A + diag(3 c u^2), on the pattern of A.
+void cubic_jacobian(const CsrMatrix& a, Real c, ConstVector u, const CsrMatrix& j) {
+  auto rp = a.row_ptr;
+  auto col = a.col;
+  auto val = a.val;
+  auto jval = j.val;
+  Kokkos::parallel_for(
+      "test::cubic_jacobian", Policy(0, a.n_rows), KOKKOS_LAMBDA(int r) {
+        for (int k = rp(r); k < rp(r + 1); ++k)
+          jval(k) = val(k) + (col(k) == r ? 3 * c * u(r) * u(r) : 0.0);
+      });
+}
+
+struct CubicProblem {
+  HostCsr ah;
+  CsrMatrix a, jacobian;
+  Real c;
+  Vector f;
+  std::vector<double> u_exact;
+  std::unique_ptr<BoomerAmg> amg = std::make_unique<BoomerAmg>();
+
+  CubicProblem(int m, Real c_) : ah(poisson(m)), a(to_device(ah)), c(c_) {
+    jacobian = a;
+    jacobian.val = Vector("test::jacobian", a.nnz());
+    // Manufactured: f = A u* + c u*^3 with u* of size ~1.5, so the cubic term is as large as the
+    // diffusion and the first (linear) step overshoots.
+    u_exact = manufactured(ah.n_rows);
+    for (auto& v : u_exact) v *= 1.5;
+    auto fh = ah.multiply(u_exact);
+    for (int i = 0; i < ah.n_rows; ++i) fh[i] += c * std::pow(u_exact[i], 3);
+    f = to_device(fh, "test::f");
+  }
+
+  NewtonSystem system() {
+    NewtonSystem s;
+    s.residual = [this](ConstVector u, Vector r) { cubic_residual(a, c, f, u, r); };
+    s.tangent = [this](ConstVector u, ConstVector du, Vector y) { cubic_tangent(a, c, u, du, y); };
+    s.setup_preconditioner = [this](ConstVector u) {
+      cubic_jacobian(a, c, u, jacobian);
+      amg->setup(jacobian);
+    };
+    s.precondition = amg->as_function();
+    s.symmetric = true;
+    return s;
+  }
+};
+
+// ---- componentwise atan(u) = 0 and sqrt(u) = 1/2 ----
+
+void atan_residual(ConstVector u, Vector r) {
+  Kokkos::parallel_for(
+      "test::atan_residual", Policy(0, u.extent(0)), KOKKOS_LAMBDA(int i) { r(i) = arctan(u(i)); });
+}
+
+void atan_tangent(ConstVector u, ConstVector du, Vector y) {
+  Kokkos::parallel_for(
+      "test::atan_tangent", Policy(0, u.extent(0)),
+      KOKKOS_LAMBDA(int i) { y(i) = du(i) / (1 + u(i) * u(i)); });
+}
+
+void sqrt_residual(ConstVector u, Vector r) {
+  Kokkos::parallel_for(
+      "test::sqrt_residual", Policy(0, u.extent(0)),
+      KOKKOS_LAMBDA(int i) { r(i) = square_root(u(i)) - 0.5; });
+}
+
+void sqrt_tangent(ConstVector u, ConstVector du, Vector y) {
+  Kokkos::parallel_for(
+      "test::sqrt_tangent", Policy(0, u.extent(0)),
+      KOKKOS_LAMBDA(int i) { y(i) = du(i) / (2 * square_root(u(i))); });
+}
+
+// Starting values 3, 3.1, ..., 3.9: all in atan's divergence region for plain Newton (|u| > 1.39).
+Vector atan_start(int n) {
+  std::vector<double> u(n);
+  for (int i = 0; i < n; ++i) u[i] = 3.0 + 0.1 * (i % 10);
+  return to_device(u, "u");
+}
+
+NewtonSystem diagonal_system(void (*residual)(ConstVector, Vector),
+                             void (*tangent)(ConstVector, ConstVector, Vector)) {
+  NewtonSystem s;
+  s.residual = residual;
+  s.tangent = tangent;
+  s.symmetric = true;  // diagonal Jacobians with positive entries: CG applies
+  return s;
+}
+
+}  // namespace
+
+TEST(Newton, ConvergesQuadraticallyWithTightForcing) {
+  CubicProblem p(12, 2.0);
+  NewtonOptions opt;
+  opt.rel_tol = 1e-13;
+  opt.abs_tol = 0;
+  opt.eta_max = 1e-12;  // exact linear solves up to round-off: the pure Newton rate shows
+  opt.eta_min = 1e-12;
+  Vector u("u", p.ah.n_rows);
+  const NewtonResult res = newton_solve(p.system(), u, opt);
+  ASSERT_TRUE(res.converged) << res.reason;
+  const auto& h = res.residual_history;
+  std::printf("[ measure  ] Newton cubic 12^3, tight forcing: %d iterations, %d Krylov:",
+              res.iterations, res.krylov_iterations);
+  for (double r : h) std::printf(" %.2e", r);
+  std::printf("\n");
+  ASSERT_GE(h.size(), 4u);
+  // Residual evaluation loses ~eps * ||f|| * sqrt(n) ~ 1e-13 relative to r0 = ||f|| (u0 = 0);
+  // ratios are taken only where r_{k+1} stays clear of that floor.
+  const double floor = 1e-12 * h[0];
+  size_t last = h.size() - 1;
+  while (last > 0 && h[last] < floor) --last;
+  ASSERT_GE(last, 2u);
+  // Quadratic rate: r_{k+1} / r_k^2 bounded over the last two steps above the floor. Measured
+  // ~0.01 (this problem's |F''| / |F'| scale); 0.1 leaves a 10x margin but fails for a linear rate,
+  // whose ratio r_{k+1} / r_k^2 = const / r_k blows up as r_k -> 0.
+  for (size_t k = last - 1; k <= last; ++k)
+    EXPECT_LE(h[k] / (h[k - 1] * h[k - 1]), 0.1) << "step " << k;
+  // Observed order log(r_{k+1} / r_k) / log(r_k / r_{k-1}) on the last triple: 2 for Newton
+  // (measured 1.96); 1.8 allows for the inexactness eta = 1e-12 and round-off.
+  const double order = std::log(h[last] / h[last - 1]) / std::log(h[last - 1] / h[last - 2]);
+  EXPECT_GE(order, 1.8);
+  // Solution error: the Jacobian A + diag(3 c u^2) has its smallest eigenvalue >= that of A,
+  // 6 (1 - cos(pi / 13)) = 0.175 for m = 12, so the error is at most 1 / 0.175 < 6 times the final
+  // residual.
+  EXPECT_LE(distance(to_host(u), p.u_exact), 6 * h.back());
+}
+
+TEST(Newton, EisenstatWalkerForcingSavesKrylovIterations) {
+  CubicProblem tight_problem(12, 2.0), ew_problem(12, 2.0);
+  NewtonOptions tight;
+  tight.eta_max = tight.eta_min = 1e-12;
+  const NewtonOptions ew{};  // defaults: eta_max 1e-2, choice 2
+  Vector u1("u1", tight_problem.ah.n_rows), u2("u2", ew_problem.ah.n_rows);
+  const NewtonResult r_tight = newton_solve(tight_problem.system(), u1, tight);
+  const NewtonResult r_ew = newton_solve(ew_problem.system(), u2, ew);
+  ASSERT_TRUE(r_tight.converged) << r_tight.reason;
+  ASSERT_TRUE(r_ew.converged) << r_ew.reason;
+  std::printf(
+      "[ measure  ] Newton cubic 12^3: tight forcing %d Newton / %d Krylov, "
+      "Eisenstat-Walker %d Newton / %d Krylov\n",
+      r_tight.iterations, r_tight.krylov_iterations, r_ew.iterations, r_ew.krylov_iterations);
+  // Loose early solves cost a Newton step or two but save many Krylov iterations.
+  EXPECT_LT(r_ew.krylov_iterations, r_tight.krylov_iterations);
+  EXPECT_LE(r_ew.iterations, r_tight.iterations + 3);
+}
+
+TEST(Newton, LineSearchGlobalisesArctanWherePlainNewtonDiverges) {
+  // Plain Newton on atan(u) = 0 from u = 3: u <- u - (1 + u^2) atan(u) grows without bound.
+  double plain = 3.0;
+  for (int k = 0; k < 5; ++k) plain -= (1 + plain * plain) * std::atan(plain);
+  EXPECT_GT(std::abs(plain), 1e6);
+
+  const int n = 100;
+  const NewtonSystem s = diagonal_system(atan_residual, atan_tangent);
+  NewtonOptions opt;
+  Vector u = atan_start(n);
+  const NewtonResult res = newton_solve(s, u, opt);
+  EXPECT_TRUE(res.converged) << res.reason;
+  // The root is 0: the residual tolerance 1e-10 * ||r0|| (r0 ~ 1.27 sqrt(n)) bounds |u| through
+  // atan's unit slope at 0.
+  for (double v : to_host(u)) EXPECT_LE(std::abs(v), 1e-9);
+  // Monotone decrease is what the line search guarantees.
+  for (size_t k = 1; k < res.residual_history.size(); ++k)
+    EXPECT_LT(res.residual_history[k], res.residual_history[k - 1]);
+  std::printf("[ measure  ] Newton atan, line search: %d iterations\n", res.iterations);
+
+  opt.max_backtracks = 0;  // full steps only: the first one increases ||r||
+  Vector u_full = atan_start(n);
+  const NewtonResult full = newton_solve(s, u_full, opt);
+  EXPECT_FALSE(full.converged);
+  EXPECT_EQ(full.reason, "line search failed");
+  EXPECT_EQ(full.iterations, 0);
+}
+
+TEST(Newton, NonFiniteTrialStepIsShortenedNotAccepted) {
+  // sqrt(u) = 1/2 from u = 4: the full Newton step lands at u = -2 where the residual is NaN; the
+  // line search must treat that as a failed trial and halve.
+  const NewtonSystem s = diagonal_system(sqrt_residual, sqrt_tangent);
+  Vector u("u", 10);
+  fill(u, 4.0);
+  const NewtonResult res = newton_solve(s, u, NewtonOptions{});
+  EXPECT_TRUE(res.converged) << res.reason;
+  // Root 1/4; residual slope there is 1, so |u - 1/4| ~ final residual (<= 1e-10 r0).
+  for (double v : to_host(u)) EXPECT_NEAR(v, 0.25, 1e-9);
+}
+
+TEST(Newton, NonFiniteResidualIsReportedAsNaN) {
+  NewtonSystem s;
+  s.residual = [](ConstVector, Vector r) { fill(r, std::numeric_limits<Real>::quiet_NaN()); };
+  s.tangent = [](ConstVector, ConstVector du, Vector y) { copy(du, y); };
+  Vector u("u", 20);
+  NewtonResult res;
+  EXPECT_NO_THROW(res = newton_solve(s, u, NewtonOptions{}));
+  EXPECT_FALSE(res.converged);
+  EXPECT_EQ(res.reason, "NaN");
+  EXPECT_EQ(res.iterations, 0);
+  ASSERT_EQ(res.residual_history.size(), 1u);
+
+  // A NaN from the tangent (inside the linear solve) is the same failure.
+  const NewtonSystem atan_nan_tangent = [] {
+    NewtonSystem t = diagonal_system(atan_residual, nullptr);
+    t.tangent = [](ConstVector, ConstVector, Vector y) {
+      fill(y, std::numeric_limits<Real>::quiet_NaN());
+    };
+    return t;
+  }();
+  Vector v = atan_start(20);
+  EXPECT_NO_THROW(res = newton_solve(atan_nan_tangent, v, NewtonOptions{}));
+  EXPECT_EQ(res.reason, "NaN");
+}
+
+TEST(Newton, LinearSolverWithoutProgressIsReported) {
+  NewtonSystem s = diagonal_system(atan_residual, nullptr);
+  // A zero tangent: no Krylov method can reduce the linear residual.
+  s.tangent = [](ConstVector, ConstVector, Vector y) { fill(y, 0.0); };
+  for (bool symmetric : {true, false}) {
+    s.symmetric = symmetric;
+    Vector u = atan_start(20);
+    const NewtonResult res = newton_solve(s, u, NewtonOptions{});
+    EXPECT_FALSE(res.converged);
+    EXPECT_EQ(res.reason, "linear solver") << (symmetric ? "CG" : "FGMRES");
+  }
+}
+
+TEST(Newton, StopsAtMaxIterations) {
+  CubicProblem p(8, 2.0);
+  NewtonOptions opt;
+  opt.max_iterations = 1;
+  Vector u("u", p.ah.n_rows);
+  const NewtonResult res = newton_solve(p.system(), u, opt);
+  EXPECT_FALSE(res.converged);
+  EXPECT_EQ(res.reason, "max iterations");
+  EXPECT_EQ(res.iterations, 1);
+  EXPECT_EQ(res.residual_history.size(), 2u);
+  EXPECT_GT(res.krylov_iterations, 0);
+}
