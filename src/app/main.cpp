@@ -16,9 +16,11 @@ namespace {
 const char* usage =
     "usage: biofsi --version\n"
     "       biofsi run SCENE.yaml [--out DIR] [--set key=value]... [--overwrite]\n"
+    "                             [--restart CHECKPOINT]\n"
     "  --out DIR        write results to DIR instead of the scene's output.directory\n"
     "  --set key=value  override a scene value, e.g. --set time.dt=0.5 --set mesh.nx=80\n"
-    "  --overwrite      replace results already in the output directory\n";
+    "  --overwrite      replace results already in the output directory\n"
+    "  --restart FILE   continue a growth run from its checkpoint_NNNNNN.h5\n";
 
 // Returns the exit code; fills options when the command is `run`.
 int parse(int argc, char** argv, bool& version, biofsi::RunOptions& options) {
@@ -56,6 +58,10 @@ int parse(int argc, char** argv, bool& version, biofsi::RunOptions& options) {
       const std::string* v = value("--set");
       if (!v) return 2;
       options.overrides.push_back(*v);
+    } else if (a == "--restart") {
+      const std::string* v = value("--restart");
+      if (!v) return 2;
+      options.restart = *v;
     } else if (a == "--overwrite") {
       options.overwrite = true;
     } else if (a.rfind("--kokkos", 0) == 0) {

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -14,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "growth/growth.hpp"
 #include "io/expression.hpp"
 #include "io/output.hpp"
 #include "io/scene.hpp"
@@ -101,7 +103,16 @@ void print_active_fields(const Scene& scene) {
             << "\n"
             << "  fluid:     off (the scene has no inflow, moving wall or body force)\n"
             << "  structure: off (the scene has no load on the biofilm)\n"
-            << "  growth:    off (the scene has no growth section)\n";
+            << "  growth:    "
+            << (scene.growth.enabled
+                    ? "on (" + std::to_string(scene.growth.steps) + " growth steps of " +
+                          std::to_string(scene.growth.dt_bio) + " ms, interface '" +
+                          scene.growth.interface + "')"
+                    : std::string("off (the scene has no growth section, or it is disabled)"))
+            << "\n";
+  if (scene.growth.enabled)
+    std::cout << "  mesh motion: on (pseudo-elastic, moves the biofilm and fluid meshes in each "
+                 "growth step)\n";
 }
 
 // Relative change between two solutions: max|a - b| / max(max|a|, tiny).
@@ -122,132 +133,350 @@ int flux_block(const Mesh& mesh, const std::string& set) {
   return blocks.size() == 1 && mesh.block_names.size() > 1 ? *blocks.begin() : -1;
 }
 
-void write_state(XdmfWriter& writer, int step, const TransportField& field) {
-  writer.write(step, field.time(), field.mesh(), {{"phi", 1, false, field.solution_host()}});
+// A nodal field that is zero off a node set.
+std::vector<double> on_nodes(const Mesh& mesh, const std::vector<int>& nodes,
+                             const std::vector<double>& values) {
+  std::vector<double> out(mesh.n_nodes(), 0.0);
+  for (size_t i = 0; i < nodes.size(); ++i) out[nodes[i]] = values[i];
+  return out;
 }
 
-std::string summarise(const Scene& scene, const TransportField& field, double wall) {
-  const TransportStats& s = field.stats();
+std::string format_range(const std::vector<QualityRange>& q, const Mesh& mesh) {
   std::ostringstream o;
-  o << std::setprecision(6);
-  o << "summary\n"
-    << "  scene: " << scene.file << "\n"
-    << "  nodes " << field.mesh().n_nodes() << ", elements " << field.mesh().n_elements() << "\n"
-    << "  scalar: " << s.steps << " solves, " << s.newton_iterations << " Newton and "
-    << s.krylov_iterations << " Krylov iterations, " << s.amg_setups << " AMG set-ups\n"
-    << "  time [s]: total " << wall << ", scalar solve " << s.seconds_solve << " (residual "
-    << s.seconds_residual << ", tangent " << s.seconds_tangent << ", assembly "
-    << s.seconds_assembly << ", AMG set-up " << s.seconds_amg_setup << ")\n"
-    << "  final time " << field.time() << ", integral of phi " << field.integral()
-    << ", consumption rate " << field.reaction_integral() << "\n";
-  for (const auto& set : scene.output.flux_boundaries) {
-    const int block = flux_block(field.mesh(), set);
-    const BoundaryFlux f = field.boundary_flux(set, block);
-    const auto [lo, hi] = std::minmax_element(f.density.begin(), f.density.end());
-    o << "  flux through '" << set << "' into "
-      << (block < 0 ? std::string("the domain") : "block '" + field.mesh().block_names[block] + "'")
-      << ": total " << f.total << ", density min " << *lo << " max " << *hi << "\n";
-  }
+  for (size_t b = 0; b < q.size(); ++b)
+    o << (b ? ", " : "") << mesh.block_names[b] << " [" << q[b].min << ", " << q[b].max << "]";
   return o.str();
 }
 
-void write_flux_tables(const Scene& scene, const TransportField& field,
-                       const std::filesystem::path& dir) {
-  for (const auto& set : scene.output.flux_boundaries) {
-    const BoundaryFlux f = field.boundary_flux(set, flux_block(field.mesh(), set));
-    const auto path = dir / ("flux_" + set + ".csv");
-    std::ofstream out(path.string() + ".tmp");
-    out << "x,y,z,nodal_flux,lumped_area,flux_density\n" << std::setprecision(12);
-    for (size_t i = 0; i < f.nodes.size(); ++i) {
-      const Point& p = field.mesh().x[f.nodes[i]];
-      out << p[0] << ',' << p[1] << ',' << p[2] << ',' << f.nodal_flux[i] << ',' << f.lumped_area[i]
-          << ',' << f.density[i] << '\n';
-    }
-    out.close();
-    std::filesystem::rename(path.string() + ".tmp", path);
-  }
-}
+struct InnerLoopResult {
+  int steps = 0;
+  bool stationary = false;
+  double change = 0;
+};
 
-int run_transport(const Scene& scene, const std::filesystem::path& out_dir, bool overwrite) {
-  const auto wall_start = Clock::now();
-  const Mesh mesh = make_box_mesh(scene.box);
-  std::cout << "mesh: " << mesh.n_nodes() << " nodes, " << mesh.n_elements() << " hex8 elements, "
-            << mesh.block_names.size() << " blocks\n";
-  TransportField field(mesh, transport_settings(scene, mesh), transport_conditions(scene));
-  const SpaceTimeFunction initial = to_function(scene.scalar.initial);
-  field.set_initial(initial, 0.0);
-  {
+struct GrowthTotals {
+  int steps = 0, inner_steps = 0, stationary_loops = 0, mesh_krylov_iterations = 0;
+  double seconds_growth = 0;
+  double min_quality = 1, max_quality = -1;
+};
+
+class Driver {
+ public:
+  Driver(const Scene& scene, const std::filesystem::path& out, bool overwrite)
+      : scene_(scene),
+        out_(out),
+        mesh_(make_box_mesh(scene.box)),
+        field_(mesh_, transport_settings(scene, mesh_), transport_conditions(scene)),
+        writer_(out.string(), "scalar", overwrite),
+        start_(Clock::now()) {
+    std::cout << "mesh: " << mesh_.n_nodes() << " nodes, " << mesh_.n_elements()
+              << " hex8 elements, " << mesh_.block_names.size() << " blocks\n";
+    field_.set_initial(to_function(scene.scalar.initial), 0.0);
     std::array<SpaceTimeFunction, 3> v;
     for (int d = 0; d < 3; ++d) v[d] = to_function(scene.scalar.velocity[d]);
-    std::vector<Point> c(mesh.n_nodes());
-    for (int n = 0; n < mesh.n_nodes(); ++n)
-      for (int d = 0; d < 3; ++d) c[n][d] = v[d](mesh.x[n], 0.0);
-    field.set_convective_velocity(c);
+    std::vector<Point> c(mesh_.n_nodes());
+    for (int n = 0; n < mesh_.n_nodes(); ++n)
+      for (int d = 0; d < 3; ++d) c[n][d] = v[d](mesh_.x[n], 0.0);
+    field_.set_convective_velocity(c);
   }
-  XdmfWriter writer(out_dir.string(), "scalar", overwrite);
-  write_state(writer, 0, field);
 
-  int last_written = 0, step = 0;
-  try {
-    if (scene.time.mode == TimeMode::Steady) {
-      const NewtonResult r = field.solve_steady("steady solve");
-      std::cout << "steady solve: " << r.iterations << " Newton iterations, " << r.krylov_iterations
-                << " Krylov iterations, residual " << r.residual_history.back() << "\n";
-      step = 1;
-      write_state(writer, step, field);
-      last_written = step;
-    } else {
-      Progress progress(scene.time.steps);
-      std::vector<double> previous = field.solution_host();
-      for (step = 1; step <= scene.time.steps; ++step) {
-        std::ostringstream label;
-        label << "step " << step << " (t = " << field.time() + scene.time.dt << ")";
-        field.step(scene.time.dt, label.str());
-        const std::vector<double> now = field.solution_host();
-        const double change = relative_change(now, previous);
-        previous = now;
-        progress.update(step, field.time(), change);
-        const bool stationary =
-            scene.time.steady_tolerance > 0 && change < scene.time.steady_tolerance;
-        if (step % scene.output.every == 0 || step == scene.time.steps || stationary) {
-          write_state(writer, step, field);
-          last_written = step;
-        }
-        if (stationary) {
-          progress.done();
-          std::cout << "stationary after " << step << " steps: relative change " << change
-                    << " < steady_tolerance " << scene.time.steady_tolerance << "\n";
-          break;
-        }
-        if (step == scene.time.steps) {
-          progress.done();
-          std::cout << "reached the last step (" << step << ")";
-          if (scene.time.steady_tolerance > 0)
-            std::cout << " without meeting steady_tolerance " << scene.time.steady_tolerance
-                      << " (last change " << change << ")";
-          std::cout << "\n";
-        }
+  int run_transport() {
+    write(0, 0.0, {});
+    int step = 0;
+    try {
+      if (scene_.time.mode == TimeMode::Steady) {
+        const NewtonResult r = field_.solve_steady("steady solve");
+        std::cout << "steady solve: " << r.iterations << " Newton iterations, "
+                  << r.krylov_iterations << " Krylov iterations, residual "
+                  << r.residual_history.back() << "\n";
+        write(1, field_.time(), {});
+        step = 1;
+      } else {
+        Progress progress(scene_.time.steps);
+        const InnerLoopResult r = inner_loop(
+            "", [&](int i, double change) { progress.update(i, field_.time(), change); },
+            [&](int i) {
+              if (i % scene_.output.every == 0) write(i, field_.time(), {});
+            });
+        progress.done();
+        report_inner_loop(r);
+        step = r.steps;
+        if (step % scene_.output.every != 0) write(step, field_.time(), {});
+      }
+    } catch (const SolveError& e) {
+      return failed(e, step, field_.time());
+    }
+    return finish();
+  }
+
+  int run_growth(const std::string& restart) {
+    const GrowthSpec& g = scene_.growth;
+    const int biofilm = mesh_.block_index(g.biofilm_block);
+    GrowthSettings gs;
+    gs.interface_set = g.interface;
+    gs.k1 = g.k1;
+    gs.k2 = g.k2;
+    gs.dt_bio = g.dt_bio;
+    gs.sliding_walls = scene_.mesh_motion.sliding_walls;
+    gs.fixed_walls = scene_.mesh_motion.fixed_walls;
+    gs.min_quality = scene_.mesh_motion.min_quality;
+    MeshMotionSettings ms;
+    ms.poisson_ratio = scene_.mesh_motion.poisson_ratio;
+    ms.stiffening = scene_.mesh_motion.stiffening;
+    ms.scatter = scene_.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
+    MeshMotion motion(mesh_, ms);
+
+    int first = 0;
+    if (!restart.empty()) first = read_checkpoint(restart);
+    note_quality(mesh_quality_by_block(mesh_));
+
+    const auto& gamma = mesh_.node_sets.at(g.interface);
+    std::vector<double> rise(gamma.size(), 0.0);
+    int k = first;
+    try {
+      for (k = first;; ++k) {
+        // Inner loop on the current mesh, from the state the previous growth step left.
+        std::deque<std::vector<double>> window;
+        const InnerLoopResult r = inner_loop(
+            "growth " + std::to_string(k) + "/" + std::to_string(g.steps) + "  ",
+            [&](int i, double change) { progress_line(k, i, change); },
+            [&](int) {
+              if (g.averaging != "window") return;
+              window.push_back(field_.boundary_flux(g.interface, biofilm).density);
+              if (static_cast<int>(window.size()) > g.window) window.pop_front();
+            });
+        totals_.inner_steps += r.steps;
+        totals_.stationary_loops += r.stationary ? 1 : 0;
+        const std::vector<double> flux = growth_flux(window, biofilm);
+        const bool last = k == g.steps;
+        if (k % g.output_every == 0 || last)
+          write(k, k * g.dt_bio, {{"flux_density", 1, false, on_nodes(mesh_, gamma, flux)}});
+        if (last) break;
+
+        const auto t0 = Clock::now();
+        const std::string label = "growth step " + std::to_string(k + 1);
+        const InterfaceMotion im =
+            interface_motion(mesh_, gs, flux, std::vector<double>(flux.size(), 0.0));
+        const GrowthStepReport rep = grow(mesh_, motion, gs, im, label);
+        field_.update_coordinates(mesh_);
+        totals_.seconds_growth += std::chrono::duration<double>(Clock::now() - t0).count();
+        totals_.mesh_krylov_iterations += rep.krylov_iterations;
+        ++totals_.steps;
+        note_quality(rep.quality);
+        if (!tty_)
+          std::cout << label << ": inner loop " << r.steps << " steps ("
+                    << (r.stationary ? "stationary" : "not stationary") << ", change " << r.change
+                    << "), interface moved max " << rep.max_interface_displacement << " mm, mesh "
+                    << "quality " << format_range(rep.quality, mesh_) << "\n";
+        if (g.checkpoint) write_checkpoint(k + 1);
+      }
+    } catch (const SolveError& e) {
+      return failed(e, k, k * g.dt_bio);
+    }
+    if (tty_) std::cout << "\n";
+    std::cout << "growth: " << totals_.steps << " growth steps, " << totals_.inner_steps
+              << " inner steps (" << totals_.stationary_loops
+              << " inner loops met steady_tolerance)\n";
+    return finish();
+  }
+
+ private:
+  // J at the interface nodes: the stationary inner solution's, or the window average.
+  std::vector<double> growth_flux(const std::deque<std::vector<double>>& window,
+                                  int biofilm) const {
+    if (window.empty()) return field_.boundary_flux(scene_.growth.interface, biofilm).density;
+    std::vector<double> avg(window.front().size(), 0.0);
+    for (const auto& w : window)
+      for (size_t i = 0; i < avg.size(); ++i) avg[i] += w[i] / window.size();
+    return avg;
+  }
+
+  template <class OnStep, class AfterStep>
+  InnerLoopResult inner_loop(const std::string& prefix, OnStep on_step, AfterStep after_step) {
+    InnerLoopResult r;
+    std::vector<double> previous = field_.solution_host();
+    for (int i = 1; i <= scene_.time.steps; ++i) {
+      std::ostringstream label;
+      label << prefix << "inner step " << i << " (t = " << field_.time() + scene_.time.dt << ")";
+      field_.step(scene_.time.dt, label.str());
+      std::vector<double> now = field_.solution_host();
+      r.change = relative_change(now, previous);
+      previous = std::move(now);
+      r.steps = i;
+      on_step(i, r.change);
+      after_step(i);
+      if (scene_.time.steady_tolerance > 0 && r.change < scene_.time.steady_tolerance) {
+        r.stationary = true;
+        break;
       }
     }
-  } catch (const SolveError& e) {
-    std::cout << "\n";
+    return r;
+  }
+
+  void report_inner_loop(const InnerLoopResult& r) const {
+    if (r.stationary)
+      std::cout << "stationary after " << r.steps << " steps: relative change " << r.change
+                << " < steady_tolerance " << scene_.time.steady_tolerance << "\n";
+    else
+      std::cout << "reached the last step (" << r.steps << ")"
+                << (scene_.time.steady_tolerance > 0
+                        ? " without meeting steady_tolerance (last change " +
+                              std::to_string(r.change) + ")"
+                        : std::string())
+                << "\n";
+  }
+
+  void progress_line(int k, int i, double change) {
+    const double elapsed = seconds();
+    const int done = k - first_growth_step_;
+    const int total = scene_.growth.steps + 1 - first_growth_step_;
+    const double fraction =
+        (done + static_cast<double>(i) / scene_.time.steps) / std::max(total, 1);
+    const double left = fraction > 0 ? elapsed / fraction * (1 - fraction) : 0.0;
+    if (!tty_) return;  // plain logs get one line per growth step instead
+    std::ostringstream s;
+    s << "\rgrowth " << k << "/" << scene_.growth.steps << "  inner " << i << "/"
+      << scene_.time.steps << "  change " << std::scientific << std::setprecision(2) << change
+      << std::fixed << std::setprecision(1) << "  elapsed " << elapsed << " s  left ~" << left
+      << " s   ";
+    std::cout << s.str() << std::flush;
+  }
+
+  void note_quality(const std::vector<QualityRange>& q) {
+    for (const auto& b : q) {
+      totals_.min_quality = std::min(totals_.min_quality, b.min);
+      totals_.max_quality = std::max(totals_.max_quality, b.max);
+    }
+  }
+
+  void write(int step, double time, std::vector<OutputField> extra) {
+    extra.insert(extra.begin(), {"phi", 1, false, field_.solution_host()});
+    writer_.write(step, time, mesh_, extra);
+    last_written_ = step;
+  }
+
+  void write_checkpoint(int growth_steps_done) {
+    char name[32];
+    std::snprintf(name, sizeof name, "checkpoint_%06d.h5", growth_steps_done);
+    std::vector<double> xyz;
+    for (const auto& p : mesh_.x) xyz.insert(xyz.end(), p.begin(), p.end());
+    write_h5_datasets((out_ / name).string(),
+                      {{"coordinates", xyz},
+                       {"phi", field_.solution_host()},
+                       {"growth_step", {static_cast<double>(growth_steps_done)}},
+                       {"time", {field_.time()}}});
+  }
+
+  // Restores mesh, concentration and time; returns the growth step to continue with.
+  int read_checkpoint(const std::string& path) {
+    const auto xyz = read_h5_dataset(path, "coordinates");
+    const auto phi = read_h5_dataset(path, "phi");
+    const auto step = read_h5_dataset(path, "growth_step");
+    const auto time = read_h5_dataset(path, "time");
+    if (xyz.size() != 3 * mesh_.x.size() || phi.size() != mesh_.x.size() || step.size() != 1 ||
+        time.size() != 1)
+      throw std::runtime_error(path + ": the checkpoint does not match the scene's mesh (" +
+                               std::to_string(phi.size()) + " nodes in the checkpoint, " +
+                               std::to_string(mesh_.n_nodes()) + " in the scene)");
+    for (int n = 0; n < mesh_.n_nodes(); ++n)
+      for (int c = 0; c < 3; ++c) mesh_.x[n][c] = xyz[3 * n + c];
+    field_.update_coordinates(mesh_);
+    field_.set_solution(phi);
+    field_.set_time(time[0]);
+    first_growth_step_ = static_cast<int>(step[0]);
+    if (first_growth_step_ < 0 || first_growth_step_ > scene_.growth.steps)
+      throw std::runtime_error(path + ": growth step " + std::to_string(first_growth_step_) +
+                               " is outside the scene's 0.." + std::to_string(scene_.growth.steps));
+    std::cout << "restart: " << path << " (after growth step " << first_growth_step_
+              << ", t = " << time[0] << " ms)\n";
+    return first_growth_step_;
+  }
+
+  int failed(const SolveError& e, int step, double time) {
+    if (tty_) std::cout << "\n";
     std::cerr << "biofsi: solve failed: field '" << e.field() << "', " << e.step() << ": "
               << e.why() << "\n";
-    if (last_written != step) {
-      write_state(writer, step, field);  // the field restored its last valid solution
-      std::cerr << "biofsi: wrote the last valid state (t = " << field.time() << ") to "
-                << writer.index_path() << "\n";
+    // The fields restored their last valid state; write it unless it is already written.
+    try {
+      write(step, time, {});
+      std::cerr << "biofsi: wrote the last valid state to " << writer_.index_path() << " (step "
+                << step << ")\n";
+    } catch (const std::exception& w) {
+      std::cerr << "biofsi: could not write the last valid state: " << w.what() << "\n";
     }
     return 3;
   }
-  write_flux_tables(scene, field, out_dir);
-  const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  const std::string summary = summarise(scene, field, wall);
-  std::cout << summary;
-  std::ofstream(out_dir / "summary.txt") << summary;
-  std::cout << "results: " << writer.index_path() << " (open in ParaView)\n";
-  return 0;
-}
+
+  int finish() {
+    write_flux_tables();
+    const std::string summary = summarise();
+    std::cout << summary;
+    std::ofstream(out_ / "summary.txt") << summary;
+    std::cout << "results: " << writer_.index_path() << " (open in ParaView)\n";
+    return 0;
+  }
+
+  double seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+  void write_flux_tables() const {
+    for (const auto& set : scene_.output.flux_boundaries) {
+      const BoundaryFlux f = field_.boundary_flux(set, flux_block(mesh_, set));
+      const auto path = out_ / ("flux_" + set + ".csv");
+      std::ofstream out(path.string() + ".tmp");
+      out << "x,y,z,nodal_flux,lumped_area,flux_density\n" << std::setprecision(12);
+      for (size_t i = 0; i < f.nodes.size(); ++i) {
+        const Point& p = mesh_.x[f.nodes[i]];
+        out << p[0] << ',' << p[1] << ',' << p[2] << ',' << f.nodal_flux[i] << ','
+            << f.lumped_area[i] << ',' << f.density[i] << '\n';
+      }
+      out.close();
+      std::filesystem::rename(path.string() + ".tmp", path);
+    }
+  }
+
+  std::string summarise() const {
+    const TransportStats& s = field_.stats();
+    std::ostringstream o;
+    o << std::setprecision(6);
+    o << "summary\n"
+      << "  scene: " << scene_.file << "\n"
+      << "  nodes " << mesh_.n_nodes() << ", elements " << mesh_.n_elements() << "\n"
+      << "  scalar: " << s.steps << " solves, " << s.newton_iterations << " Newton and "
+      << s.krylov_iterations << " Krylov iterations, " << s.amg_setups << " AMG set-ups\n"
+      << "  time [s]: total " << seconds() << "; scalar " << s.seconds_solve << " (residual "
+      << s.seconds_residual << ", tangent " << s.seconds_tangent << ", assembly "
+      << s.seconds_assembly << ", AMG set-up " << s.seconds_amg_setup << ")";
+    if (scene_.growth.enabled)
+      o << "; growth + mesh motion " << totals_.seconds_growth << " (" << totals_.steps
+        << " steps, " << totals_.mesh_krylov_iterations << " CG iterations)";
+    o << "\n";
+    if (scene_.growth.enabled)
+      o << "  mesh quality (scaled Jacobian) over the run: [" << totals_.min_quality << ", "
+        << totals_.max_quality << "]\n";
+    o << "  final time " << field_.time() << ", integral of phi " << field_.integral()
+      << ", consumption rate " << field_.reaction_integral() << "\n";
+    for (const auto& set : scene_.output.flux_boundaries) {
+      const int block = flux_block(mesh_, set);
+      const BoundaryFlux f = field_.boundary_flux(set, block);
+      const auto [lo, hi] = std::minmax_element(f.density.begin(), f.density.end());
+      o << "  flux through '" << set << "' into "
+        << (block < 0 ? std::string("the domain") : "block '" + mesh_.block_names[block] + "'")
+        << ": total " << f.total << ", density min " << *lo << " max " << *hi << "\n";
+    }
+    return o.str();
+  }
+
+  const Scene& scene_;
+  std::filesystem::path out_;
+  Mesh mesh_;
+  TransportField field_;
+  XdmfWriter writer_;
+  Clock::time_point start_;
+  bool tty_ = isatty(STDOUT_FILENO);
+  int last_written_ = -1;
+  int first_growth_step_ = 0;
+  GrowthTotals totals_;
+};
 
 }  // namespace
 
@@ -268,7 +497,13 @@ int run_scene(const RunOptions& options) {
     return 0;
   }
   try {
-    return run_transport(scene, out_dir, options.overwrite);
+    Driver driver(scene, out_dir, options.overwrite);
+    if (scene.growth.enabled) return driver.run_growth(options.restart);
+    if (!options.restart.empty()) {
+      std::cerr << "biofsi: --restart needs a scene with a growth section\n";
+      return 1;
+    }
+    return driver.run_transport();
   } catch (const std::exception& e) {
     std::cerr << "biofsi: " << e.what() << "\n";
     return 1;

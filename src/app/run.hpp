@@ -12,6 +12,7 @@ struct RunOptions {
   std::string out_dir;                 // empty: the scene's output.directory
   std::vector<std::string> overrides;  // --set key=value
   bool overwrite = false;
+  std::string restart;  // checkpoint file to continue from (growth scenes)
 };
 
 int run_scene(const RunOptions& options);

@@ -82,6 +82,7 @@ class TransportField {
   NewtonResult solve_steady(const std::string& label);
 
   double time() const { return time_; }
+  void set_time(double t) { time_ = t; }
   ConstVector solution() const { return phi_; }
   std::vector<double> solution_host() const;
   // Integral of phi over the blocks (all when block < 0).
