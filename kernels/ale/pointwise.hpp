@@ -15,7 +15,7 @@ namespace biofsi {
 
 struct PseudoElasticPhysics {
   static constexpr int n_components = 3, n_aux = 0;
-  Real lambda = 0.5, mu = 1.0;  // Lame parameters of the pseudo-material (E = 1, nu ~ 0.2)
+  Real lambda = 0.5, mu = 1.0;  // Lame parameters (MeshMotion sets them from E = 1 and nu)
   Real stiffening = 0.0;        // chi >= 0
 
   KOKKOS_INLINE_FUNCTION Real scale(const QpData<0>& q) const {

@@ -1,0 +1,108 @@
+// Shared set-up for the mesh-motion verification tests (src/ale, kernels/ale): box meshes, a smooth
+// fully 3-D distortion that keeps the boundary on the box, the pseudo-material that MeshMotion
+// builds from its settings, and host <-> device copies of flat dof vectors. Host code only: the
+// device work happens inside the library (element loops, csr_multiply, csr_diagonal).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "ale/mesh_motion.hpp"
+#include "kernels/ale/pointwise.hpp"
+#include "mesh/mesh.hpp"
+
+namespace biofsi {
+namespace test {
+
+constexpr double pi = 3.14159265358979323846;
+
+using HostVector = std::vector<double>;
+
+inline HostVector to_host(ConstVector v) {
+  Kokkos::View<Real*, HostSpace> h(std::string("test::host"), v.extent(0));
+  Kokkos::deep_copy(h, v);
+  return HostVector(h.data(), h.data() + h.extent(0));
+}
+
+inline Vector to_device(const HostVector& v) {
+  Vector d(std::string("test::device"), v.size());
+  Kokkos::View<const Real*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(),
+                                                                                  v.size());
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+// [0,1] x [blocks along y] x [0,thickness] with nx elements along x and nz along z.
+inline Mesh box_mesh(int nx, int nz, double thickness, const std::vector<BoxBlock>& blocks) {
+  BoxSpec spec;
+  spec.x0 = 0;
+  spec.x1 = 1;
+  spec.z0 = 0;
+  spec.z1 = thickness;
+  spec.nx = nx;
+  spec.nz = nz;
+  spec.blocks = blocks;
+  return make_box_mesh(spec);
+}
+
+// A smooth, fully 3-D map of the unit cube onto itself that keeps every side on its plane: each
+// coordinate moves by amplitude * sin(pi x_i) times a function of the other two, so the normal
+// displacement vanishes on every side while the tangential one does not (boundary nodes slide
+// within their side). With amplitude a <= 0.06 each diagonal entry of the map's Jacobian is at
+// least 1 - pi a = 0.81 and each row's off-diagonal sum at most 2 pi a = 0.38, so (Gershgorin) its
+// determinant stays positive and no element inverts; the map does not flatten out as h -> 0, so
+// every refinement has non-affine elements.
+inline Point smooth_cube_map(const Point& p, double amplitude) {
+  const double x = p[0], y = p[1], z = p[2], a = amplitude;
+  return {x + a * std::sin(pi * x) * std::cos(1.3 * pi * y + 0.4) * std::cos(0.7 * pi * z),
+          y + a * std::sin(pi * y) * std::cos(0.9 * pi * x + 0.3) * std::cos(1.1 * pi * z),
+          z + a * std::sin(pi * z) * std::cos(1.2 * pi * x) * std::cos(0.8 * pi * y + 0.5)};
+}
+
+// The pseudo-material MeshMotion builds from its settings (E = 1): the Lame parameters of a
+// Poisson ratio nu, written out here independently of src/ale.
+inline PseudoElasticPhysics pseudo_material(double poisson_ratio, double stiffening) {
+  const double nu = poisson_ratio;
+  PseudoElasticPhysics p;
+  p.lambda = nu / ((1 + nu) * (1 - 2 * nu));
+  p.mu = 1 / (2 * (1 + nu));
+  p.stiffening = stiffening;
+  return p;
+}
+
+inline std::vector<int> all_elements(const Mesh& mesh) {
+  std::vector<int> e(mesh.n_elements());
+  for (int i = 0; i < mesh.n_elements(); ++i) e[i] = i;
+  return e;
+}
+
+// Union of named node sets, sorted and unique.
+inline std::vector<int> nodes_of_sets(const Mesh& mesh, const std::vector<std::string>& sets) {
+  std::set<int> nodes;
+  for (const auto& s : sets) nodes.insert(mesh.node_sets.at(s).begin(), mesh.node_sets.at(s).end());
+  return std::vector<int>(nodes.begin(), nodes.end());
+}
+
+inline std::vector<int> boundary_nodes(const Mesh& mesh) {
+  return nodes_of_sets(mesh, {"left", "right", "bottom", "top", "front", "back"});
+}
+
+// The mesh with every node moved by its displacement.
+inline Mesh moved(const Mesh& mesh, const std::vector<Point>& d) {
+  Mesh m = mesh;
+  for (int n = 0; n < m.n_nodes(); ++n)
+    for (int c = 0; c < 3; ++c) m.x[n][c] += d[n][c];
+  return m;
+}
+
+inline double max_abs(const HostVector& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+}  // namespace test
+}  // namespace biofsi
