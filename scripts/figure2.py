@@ -1,9 +1,9 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Reproduces Figure 2 of Coroneo, Yoshihara & Wall from biofsi's own output: the substrate
 concentration and the biofilm mesh after 0, 30 and 60 growth steps, one row per case.
 
 usage: scripts/figure2.py OUT.png CASE_DIR [CASE_DIR ...]
-Each CASE_DIR holds a run's scalar_NNNNNN.h5 files (written at growth steps). Uses Debian's
+Run with Debian's /usr/bin/python3 (python3-matplotlib, python3-h5py). Each CASE_DIR holds a run's scalar_NNNNNN.h5 files (written at growth steps). Uses Debian's
 python3-matplotlib and python3-h5py.
 """
 import os
@@ -67,7 +67,7 @@ def main():
             image = panel(axes[row][col], case_dir, step, 1.0)
     fig.colorbar(image, ax=axes, shrink=0.6, label="substrate concentration")
     tmp = out + ".tmp.png"
-    fig.savefig(tmp, dpi=150)
+    fig.savefig(tmp, dpi=150, bbox_inches="tight")
     os.replace(tmp, out)
     print("figure: " + out)
 

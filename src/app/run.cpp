@@ -230,8 +230,8 @@ class Driver {
     if (!restart.empty()) first = read_checkpoint(restart);
     note_quality(mesh_quality_by_block(mesh_));
 
-    const auto& gamma = mesh_.node_sets.at(g.interface);
-    std::vector<double> rise(gamma.size(), 0.0);
+    const std::vector<int> gamma =
+        mesh_.node_sets.at(g.interface);  // a copy: grow() replaces mesh_
     int k = first;
     try {
       for (k = first;; ++k) {

@@ -288,8 +288,11 @@ NewtonResult TransportField::step(double dt, const std::string& label) {
   update_face_data(time_ + settings_.theta * dt);
   update_source(time_ + settings_.theta * dt);
   impose_dirichlet(time_ + dt);
-  // The matrix depends on dt and (through Monod) on phi; rebuild once per step.
-  preconditioner_current_ = false;
+  // The matrix depends on dt, the mesh and the velocity (which reset preconditioner_current_)
+  // and, through Monod's derivative, on phi, which changes little from one step to the next.
+  if (dt != preconditioner_dt_ || !settings_.reuse_preconditioner_across_steps)
+    preconditioner_current_ = false;
+  preconditioner_dt_ = dt;
   NewtonResult r = advance(label);
   time_ += dt;
   return r;
@@ -303,6 +306,7 @@ NewtonResult TransportField::solve_steady(const std::string& label) {
   update_source(time_);
   impose_dirichlet(time_);
   preconditioner_current_ = false;
+  preconditioner_dt_ = 0;
   return advance(label);
 }
 

@@ -39,7 +39,11 @@ struct TransportSettings {
   Scatter scatter = Scatter::Colored;
   NewtonOptions newton;
   AmgOptions amg;
-  // Rebuild the AMG hierarchy at every Newton iteration instead of once per time step.
+  // Keep the AMG hierarchy over time steps while dt, mesh and velocity stay the same (the
+  // Monod derivative is then the only change, and a slightly stale preconditioner costs a few
+  // Krylov iterations instead of an assembly and an AMG set-up per step).
+  bool reuse_preconditioner_across_steps = true;
+  // Rebuild the AMG hierarchy at every Newton iteration (overrides the reuse above).
   bool rebuild_preconditioner_each_iteration = false;
 };
 
@@ -135,6 +139,7 @@ class TransportField {
   BoomerAmg amg_;
   bool has_convection_ = false;
   bool preconditioner_current_ = false;
+  double preconditioner_dt_ = 0;  // dt the current preconditioner was built for
   double time_ = 0;
   TransportStats stats_;
 };

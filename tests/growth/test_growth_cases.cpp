@@ -1,0 +1,225 @@
+// The paper's cases (a) and (b) end to end through the driver (run_scene), at a reduced mesh
+// resolution so that 60 growth steps fit the default test run: uniform rise in (a), symmetry and
+// a central bump in (b), mesh validity, restart, the stop at an aggressive growth rate, and
+// readable files after a killed run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <regex>
+#include <sstream>
+
+#include "app/run.hpp"
+#include "io/output.hpp"
+#include "io/scene.hpp"
+
+using namespace biofsi;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string source_dir = BIOFSI_SOURCE_DIR;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("biofsi_growth_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+// Coarse copies of the cases: 20 x (4 + 16) elements, every growth step written.
+std::vector<std::string> coarse(std::vector<std::string> more = {}) {
+  std::vector<std::string> o = {"mesh.nx=20",
+                                "mesh.blocks.0.ny=4",
+                                "mesh.blocks.1.ny=16",
+                                "growth.output_every=1",
+                                "solver.newton.rel_tol=1e-12",
+                                "solver.newton.abs_tol=1e-15",
+                                "solver.linear.rel_tol=1e-10"};
+  o.insert(o.end(), more.begin(), more.end());
+  return o;
+}
+
+struct Captured {
+  int rc;
+  std::string out, err;
+};
+
+Captured run(const std::string& scene, const fs::path& out, const std::vector<std::string>& set,
+             const std::string& restart = "") {
+  RunOptions o;
+  o.scene_path = source_dir + "/" + scene;
+  o.out_dir = out.string();
+  o.overrides = set;
+  o.overwrite = true;
+  o.restart = restart;
+  std::ostringstream cout_text, cerr_text;
+  auto* old_out = std::cout.rdbuf(cout_text.rdbuf());
+  auto* old_err = std::cerr.rdbuf(cerr_text.rdbuf());
+  const int rc = run_scene(o);
+  std::cout.rdbuf(old_out);
+  std::cerr.rdbuf(old_err);
+  return {rc, cout_text.str(), cerr_text.str()};
+}
+
+std::string step_file(const fs::path& dir, int step) {
+  char name[32];
+  std::snprintf(name, sizeof name, "scalar_%06d.h5", step);
+  return (dir / name).string();
+}
+
+// Interface node heights (y) at a written growth step, in node_sets order.
+std::vector<Point> interface_points(const fs::path& dir, int step, const Mesh& mesh) {
+  const auto xyz = read_h5_dataset(step_file(dir, step), "coordinates");
+  std::vector<Point> p;
+  for (int n : mesh.node_sets.at("biofilm_fluid"))
+    p.push_back({xyz[3 * n], xyz[3 * n + 1], xyz[3 * n + 2]});
+  return p;
+}
+
+Mesh scene_mesh(const std::string& scene, const std::vector<std::string>& set) {
+  return make_box_mesh(load_scene(source_dir + "/" + scene, set).box);
+}
+
+double min_quality_in(const std::string& summary) {
+  std::smatch m;
+  const std::regex re("mesh quality \\(scaled Jacobian\\) over the run: \\[([-0-9.e]+),");
+  return std::regex_search(summary, m, re) ? std::stod(m[1]) : -1;
+}
+
+}  // namespace
+
+TEST(GrowthCaseA, InterfaceRisesUniformlyAtEveryGrowthStep) {
+  const fs::path dir = fresh_dir("a");
+  const auto set = coarse();
+  const Captured r = run("cases/coroneo2013/a_uniform.yaml", dir, set);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const Mesh mesh = scene_mesh("cases/coroneo2013/a_uniform.yaml", set);
+  double previous_mean = -3.0;
+  for (int k = 1; k <= 60; ++k) {
+    const auto p = interface_points(dir, k, mesh);
+    double lo = 1e300, hi = -1e300, mean = 0;
+    for (const auto& q : p) lo = std::min(lo, q[1]), hi = std::max(hi, q[1]), mean += q[1];
+    mean /= p.size();
+    const double rise = mean + 3.0;
+    ASSERT_GT(mean, previous_mean) << "step " << k;  // it grows at every step
+    // The bound: the spread of the interface height below 1e-8 of the mean rise; the
+    // problem is exactly x-independent, so only solver tolerances (1e-12) separate the nodes.
+    EXPECT_LT(hi - lo, 1e-8 * rise) << "step " << k;
+    previous_mean = mean;
+  }
+  EXPECT_GT(previous_mean + 3.0, 0.5);  // visible growth: about a millimetre over 60 steps
+  EXPECT_GT(min_quality_in(r.out), 0.5) << r.out;  // the mesh stays valid and well shaped
+}
+
+TEST(GrowthCaseB, IsSymmetricAndGrowsMoreAtTheCentreThanAtTheWalls) {
+  const fs::path dir = fresh_dir("b");
+  const auto set = coarse();
+  const Captured r = run("cases/coroneo2013/b_cosine.yaml", dir, set);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const Mesh mesh = scene_mesh("cases/coroneo2013/b_cosine.yaml", set);
+  for (int k : {1, 10, 30, 60}) {
+    const auto p = interface_points(dir, k, mesh);
+    double max_rise = 0, centre = 0, wall = 0;
+    for (const auto& q : p) max_rise = std::max(max_rise, q[1] + 3.0);
+    for (const auto& q : p) {
+      // Mirror partner (-x, same z).
+      const auto m = std::find_if(p.begin(), p.end(), [&](const Point& o) {
+        return std::abs(o[0] + q[0]) < 1e-9 && std::abs(o[2] - q[2]) < 1e-12;
+      });
+      ASSERT_NE(m, p.end());
+      // 1e-10 relative (the bound): the discrete problem is mirror-symmetric; only the
+      // iterative solvers' tolerances (1e-12 Newton, 1e-10 Krylov) break the symmetry.
+      EXPECT_NEAR(q[1], (*m)[1], 1e-10 * max_rise) << "step " << k << " x " << q[0];
+      if (std::abs(q[0]) < 1e-9) centre = q[1] + 3.0;
+      if (std::abs(q[0] - 5.0) < 1e-9) wall = q[1] + 3.0;
+    }
+    EXPECT_GT(centre, wall) << "step " << k;
+    if (k == 60) {
+      std::cout << "case (b), 60 growth steps: centre rise " << centre << " mm, wall rise " << wall
+                << " mm\n";
+      EXPECT_GT(centre, 0.5);  // visible growth, order 1 mm (the case file's calibration)
+    }
+  }
+  EXPECT_GT(min_quality_in(r.out), 0.5) << r.out;
+}
+
+TEST(GrowthRestart, ReproducesTheUninterruptedRun) {
+  const fs::path full = fresh_dir("full"), resumed = fresh_dir("resumed");
+  const auto set = coarse({"growth.steps=6"});
+  ASSERT_EQ(run("cases/coroneo2013/b_cosine.yaml", full, set).rc, 0);
+  const Captured r = run("cases/coroneo2013/b_cosine.yaml", resumed, set,
+                         (full / "checkpoint_000003.h5").string());
+  ASSERT_EQ(r.rc, 0) << r.err;
+  for (const char* name : {"coordinates", "phi"}) {
+    const auto a = read_h5_dataset(step_file(full, 6), name);
+    const auto b = read_h5_dataset(step_file(resumed, 6), name);
+    ASSERT_EQ(a.size(), b.size());
+    double diff = 0, scale = 0;
+    for (size_t i = 0; i < a.size(); ++i)
+      diff = std::max(diff, std::abs(a[i] - b[i])), scale = std::max(scale, std::abs(a[i]));
+    EXPECT_LE(diff, 1e-12 * scale) << name;  // the bound
+  }
+}
+
+TEST(GrowthLimits, AggressiveGrowthStopsWithAClearMessageAfterWritingTheLastValidState) {
+  const fs::path dir = fresh_dir("aggressive");
+  // 100 times the calibrated rate: the interface would cross the fluid within a few steps.
+  const Captured r = run("cases/coroneo2013/b_cosine.yaml", dir, coarse({"growth.k1=0.035"}));
+  EXPECT_EQ(r.rc, 3);
+  EXPECT_NE(r.err.find("field 'growth'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("growth step"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("element"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("min_quality"), std::string::npos) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.err, m, std::regex("growth step ([0-9]+)"))) << r.err;
+  const int failed = std::stoi(m[1]);
+  // The state before the failed step is in the results, readable, with a valid mesh.
+  const auto phi = read_h5_dataset(step_file(dir, failed - 1), "phi");
+  for (double v : phi) ASSERT_TRUE(std::isfinite(v));
+  std::ifstream index(dir / "scalar.xdmf");
+  const std::string text((std::istreambuf_iterator<char>(index)), {});
+  EXPECT_NE(text.find("scalar_" + std::string(6 - std::to_string(failed - 1).size(), '0') +
+                      std::to_string(failed - 1) + ".h5"),
+            std::string::npos);
+}
+
+TEST(GrowthLimits, AKilledRunLeavesOnlyReadableFiles) {
+  const fs::path dir = fresh_dir("killed");
+  fs::create_directories(dir);
+  // Start the real program, wait until it has written a few growth steps, then SIGKILL it in the
+  // middle of its work (no chance to clean up).
+  const fs::path pid_file = dir / "pid";
+  const std::string start = "OMP_WAIT_POLICY=passive " + std::string(BIOFSI_BINARY) + " run " +
+                            source_dir + "/cases/coroneo2013/b_cosine.yaml --out " + dir.string() +
+                            " --overwrite --set growth.output_every=1 > " +
+                            (dir / "log.txt").string() + " 2>&1 & echo $! > " + pid_file.string();
+  ASSERT_EQ(std::system(start.c_str()), 0);
+  for (int i = 0; i < 1200 && !fs::exists(step_file(dir, 3)); ++i) std::system("sleep 0.1");
+  ASSERT_TRUE(fs::exists(step_file(dir, 3))) << "the run did not reach growth step 3 in 120 s";
+  std::ifstream pid_in(pid_file);
+  std::string pid;
+  pid_in >> pid;
+  ASSERT_FALSE(pid.empty());
+  ASSERT_EQ(std::system(("kill -KILL " + pid).c_str()), 0);  // still running: killed mid-run
+  std::system(("while kill -0 " + pid + " 2>/dev/null; do sleep 0.1; done").c_str());
+  std::ifstream index(dir / "scalar.xdmf");
+  ASSERT_TRUE(index.good());
+  const std::string text((std::istreambuf_iterator<char>(index)), {});
+  EXPECT_NE(text.find("</Xdmf>"), std::string::npos);  // complete index, never half written
+  const std::regex file_re("scalar_[0-9]{6}\\.h5");
+  int listed = 0;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), file_re);
+       it != std::sregex_iterator(); ++it, ++listed)
+    EXPECT_NO_THROW(read_h5_dataset((dir / it->str()).string(), "phi")) << it->str();
+  EXPECT_GT(listed, 0);
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".h5") continue;
+    const bool checkpoint = e.path().filename().string().rfind("checkpoint", 0) == 0;
+    EXPECT_NO_THROW(read_h5_dataset(e.path().string(), checkpoint ? "coordinates" : "phi"))
+        << e.path();
+  }
+}
