@@ -442,7 +442,9 @@ class Driver {
       << "  scene: " << scene_.file << "\n"
       << "  nodes " << mesh_.n_nodes() << ", elements " << mesh_.n_elements() << "\n"
       << "  scalar: " << s.steps << " solves, " << s.newton_iterations << " Newton and "
-      << s.krylov_iterations << " Krylov iterations, " << s.amg_setups << " AMG set-ups\n"
+      << s.krylov_iterations << " Krylov iterations, " << s.amg_setups << " AMG set-ups, "
+      << s.cut_steps << " time steps cut into sub-steps, " << s.pseudo_steps
+      << " pseudo-time steps\n"
       << "  time [s]: total " << seconds() << "; scalar " << s.seconds_solve << " (residual "
       << s.seconds_residual << ", tangent " << s.seconds_tangent << ", assembly "
       << s.seconds_assembly << ", AMG set-up " << s.seconds_amg_setup << ")";

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -241,7 +242,20 @@ void TransportField::setup_preconditioner(ConstVector phi) {
   ++stats_.amg_setups;
 }
 
-NewtonResult TransportField::advance(const std::string& label) {
+double TransportField::storage_roundoff(double inv_dt) const {
+  // The storage term M phi / dt dominates the residual for tiny dt; its entries carry round-off of
+  // ~eps times their size, below which no Newton iteration can reduce ||r||.
+  if (inv_dt == 0) return 0;
+  const auto w = to_host_vector(volume_weights_);
+  const auto phi = to_host_vector(phi_old_);
+  double s = 0;
+  for (size_t i = 0; i < w.size(); ++i) s += (w[i] * phi[i]) * (w[i] * phi[i]);
+  return 100 * std::numeric_limits<double>::epsilon() * std::sqrt(s) * inv_dt;
+}
+
+NewtonResult TransportField::advance(const std::string& label, double abs_floor) {
+  NewtonOptions options = settings_.newton;
+  options.abs_tol = std::max(options.abs_tol, abs_floor);
   NewtonSystem sys;
   sys.residual = [this](ConstVector u, Vector r) {
     ScopedTimer t(stats_.seconds_residual);
@@ -261,7 +275,7 @@ NewtonResult TransportField::advance(const std::string& label) {
   NewtonResult result;
   {
     const auto start = Clock::now();
-    result = newton_solve(sys, phi_, settings_.newton);
+    result = newton_solve(sys, phi_, options);
     Kokkos::fence();
     stats_.seconds_solve += std::chrono::duration<double>(Clock::now() - start).count();
   }
@@ -279,26 +293,68 @@ NewtonResult TransportField::advance(const std::string& label) {
   return result;
 }
 
-NewtonResult TransportField::step(double dt, const std::string& label) {
-  if (!(dt > 0) || !std::isfinite(dt))
-    throw SolveError("scalar", label, "time step must be positive and finite");
+NewtonResult TransportField::step_once(double dt, double theta, const std::string& label,
+                                       bool fresh_preconditioner) {
   copy(phi_, phi_old_);
   set_aux_column(aux_, 0, phi_old_);
-  set_step_physics(1.0 / dt, settings_.theta);
-  update_face_data(time_ + settings_.theta * dt);
-  update_source(time_ + settings_.theta * dt);
+  set_step_physics(1.0 / dt, theta);
+  update_face_data(time_ + theta * dt);
+  update_source(time_ + theta * dt);
   impose_dirichlet(time_ + dt);
   // The matrix depends on dt, the mesh and the velocity (which reset preconditioner_current_)
   // and, through Monod's derivative, on phi, which changes little from one step to the next.
-  if (dt != preconditioner_dt_ || !settings_.reuse_preconditioner_across_steps)
+  if (dt != preconditioner_dt_ || !settings_.reuse_preconditioner_across_steps ||
+      fresh_preconditioner)
     preconditioner_current_ = false;
   preconditioner_dt_ = dt;
-  NewtonResult r = advance(label);
+  const bool rebuild = settings_.rebuild_preconditioner_each_iteration;
+  settings_.rebuild_preconditioner_each_iteration = rebuild || fresh_preconditioner;
+  NewtonResult r;
+  try {
+    r = advance(label, storage_roundoff(1.0 / dt));
+  } catch (...) {
+    settings_.rebuild_preconditioner_each_iteration = rebuild;
+    throw;
+  }
+  settings_.rebuild_preconditioner_each_iteration = rebuild;
   time_ += dt;
   return r;
 }
 
-NewtonResult TransportField::solve_steady(const std::string& label) {
+NewtonResult TransportField::step(double dt, const std::string& label) {
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw SolveError("scalar", label, "time step must be positive and finite");
+  try {
+    return step_once(dt, settings_.theta, label, false);
+  } catch (const SolveError& first) {
+    // Cut the step into 2, 4, ... sub-steps with a fresh preconditioner at every Newton
+    // iteration: a steep reaction front (Monod with small K) needs smaller steps to be crossed.
+    const double t0 = time_;
+    Vector start("biofsi::phi_step_start", phi_.extent(0));
+    copy(phi_, start);
+    for (int level = 1; level <= settings_.max_step_cuts; ++level) {
+      const int n = 1 << level;
+      try {
+        NewtonResult r;
+        for (int i = 0; i < n; ++i)
+          r = step_once(
+              dt / n, settings_.theta,
+              label + " (sub-step " + std::to_string(i + 1) + "/" + std::to_string(n) + ")", true);
+        ++stats_.cut_steps;
+        return r;
+      } catch (const SolveError&) {
+        copy(start, phi_);
+        copy(start, phi_old_);
+        time_ = t0;
+      }
+    }
+    throw SolveError("scalar", label,
+                     first.why() + "; cutting the step into up to " +
+                         std::to_string(1 << settings_.max_step_cuts) + " sub-steps did not help");
+  }
+}
+
+NewtonResult TransportField::steady_newton(const std::string& label) {
   copy(phi_, phi_old_);
   set_aux_column(aux_, 0, phi_old_);
   set_step_physics(0.0, 1.0);
@@ -307,7 +363,51 @@ NewtonResult TransportField::solve_steady(const std::string& label) {
   impose_dirichlet(time_);
   preconditioner_current_ = false;
   preconditioner_dt_ = 0;
-  return advance(label);
+  return advance(label, 0.0);
+}
+
+NewtonResult TransportField::solve_steady(const std::string& label) {
+  Vector start("biofsi::phi_steady_start", phi_.extent(0));
+  copy(phi_, start);
+  try {
+    return steady_newton(label);
+  } catch (const SolveError& first) {
+    if (settings_.pseudo_transient_steps == 0) throw;
+    // Pseudo-transient continuation: backward-Euler steps in pseudo-time (the physical time
+    // stays), the step doubled after each success and quartered after a failure, and another
+    // steady Newton solve once the pseudo-time steps barely change the field.
+    copy(start, phi_);
+    const double t = time_;
+    double dt = settings_.pseudo_dt0;
+    Vector before("biofsi::phi_pseudo", phi_.extent(0));
+    for (int i = 1; i <= settings_.pseudo_transient_steps; ++i) {
+      copy(phi_, before);
+      try {
+        step_once(dt, 1.0, label + " (pseudo-time step " + std::to_string(i) + ")", true);
+      } catch (const SolveError&) {
+        copy(before, phi_);
+        time_ = t;
+        dt /= 4;
+        continue;
+      }
+      time_ = t;
+      ++stats_.pseudo_steps;
+      dt *= 2;
+      axpby(1.0, phi_, -1.0, before);  // before := phi - before
+      if (norm2(before) > 1e-3 * norm2(phi_)) continue;
+      copy(phi_, before);
+      try {
+        return steady_newton(label + " (after pseudo-time continuation)");
+      } catch (const SolveError&) {
+        copy(before, phi_);
+      }
+    }
+    copy(start, phi_);
+    throw SolveError("scalar", label,
+                     first.why() + "; pseudo-transient continuation (" +
+                         std::to_string(settings_.pseudo_transient_steps) +
+                         " pseudo-time steps) did not reach the steady state either");
+  }
 }
 
 double TransportField::integral(int block) const {

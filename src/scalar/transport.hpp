@@ -45,6 +45,12 @@ struct TransportSettings {
   bool reuse_preconditioner_across_steps = true;
   // Rebuild the AMG hierarchy at every Newton iteration (overrides the reuse above).
   bool rebuild_preconditioner_each_iteration = false;
+  // A time step whose Newton solve fails is retried as 2, 4, ... 2^max_step_cuts sub-steps.
+  int max_step_cuts = 8;
+  // A steady solve whose Newton fails falls back to pseudo-transient continuation with at most
+  // this many backward-Euler pseudo-time steps, the first of size pseudo_dt0 (0 disables it).
+  int pseudo_transient_steps = 200;
+  double pseudo_dt0 = 1.0;
 };
 
 // Consistent flux through a node set: the nodal reaction of the residual restricted to the
@@ -60,6 +66,8 @@ struct BoundaryFlux {
 
 struct TransportStats {
   int steps = 0, newton_iterations = 0, krylov_iterations = 0, amg_setups = 0;
+  int cut_steps = 0;     // time steps that needed sub-steps
+  int pseudo_steps = 0;  // pseudo-time steps of steady solves that needed continuation
   double seconds_residual = 0, seconds_tangent = 0, seconds_assembly = 0, seconds_amg_setup = 0,
          seconds_solve = 0;
 };
@@ -112,7 +120,11 @@ class TransportField {
     FaceOperator<TransportBoundaryPhysics> op;
   };
 
-  NewtonResult advance(const std::string& label);
+  NewtonResult advance(const std::string& label, double abs_floor);
+  NewtonResult step_once(double dt, double theta, const std::string& label,
+                         bool fresh_preconditioner);
+  NewtonResult steady_newton(const std::string& label);
+  double storage_roundoff(double inv_dt) const;
   void impose_dirichlet(double t);
   void update_face_data(double t_eval);
   void setup_preconditioner(ConstVector phi);
