@@ -121,6 +121,25 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   }
 }
 
+// Creates `path` as an HDF5 file through a temporary name: `fill` writes the datasets into the open
+// temporary file, which is renamed only once closed, so a reader never sees a partial file.
+template <class Fill>
+void write_h5_atomically(const std::string& path, const Fill& fill) {
+  const std::string tmp = path + ".tmp";
+  try {
+    H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (!file.ok()) throw std::runtime_error(tmp + ": cannot create the HDF5 file");
+    fill(file.get(), tmp);
+    if (!file.close()) throw std::runtime_error(tmp + ": cannot close the HDF5 file");
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      throw std::runtime_error("cannot rename " + tmp + " to " + path);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+}
+
 }  // namespace
 
 XdmfWriter::XdmfWriter(const std::string& directory, const std::string& basename, bool overwrite)
@@ -166,38 +185,27 @@ void XdmfWriter::write(int step, double time, const Mesh& mesh,
   std::snprintf(number, sizeof number, "%06d", step);
   const std::string h5 = basename_ + "_" + number + ".h5";
   const std::string path = (fs::path(directory_) / h5).string();
-  const std::string tmp = path + ".tmp";
-
-  try {
-    H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-    if (!file.ok()) throw std::runtime_error(tmp + ": cannot create the HDF5 file");
+  write_h5_atomically(path, [&](hid_t file, const std::string& tmp) {
     const hsize_t nn = static_cast<hsize_t>(n_nodes), ne = static_cast<hsize_t>(n_elements);
     std::vector<double> xyz;
     xyz.reserve(3 * mesh.x.size());
     for (const auto& p : mesh.x) xyz.insert(xyz.end(), p.begin(), p.end());
-    write_dataset(file.get(), tmp, "coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {nn, 3},
+    write_dataset(file, tmp, "coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {nn, 3},
                   xyz.empty() ? nullptr : xyz.data());
     std::vector<int> conn;
     conn.reserve(8 * mesh.conn.size());
     for (const auto& c : mesh.conn) conn.insert(conn.end(), c.begin(), c.end());
-    write_dataset(file.get(), tmp, "connectivity", H5T_STD_I32LE, H5T_NATIVE_INT, {ne, 8},
+    write_dataset(file, tmp, "connectivity", H5T_STD_I32LE, H5T_NATIVE_INT, {ne, 8},
                   conn.empty() ? nullptr : conn.data());
     std::vector<int> block(mesh.element_block);
     block.resize(mesh.conn.size(), 0);
-    write_dataset(file.get(), tmp, "block", H5T_STD_I32LE, H5T_NATIVE_INT, {ne},
+    write_dataset(file, tmp, "block", H5T_STD_I32LE, H5T_NATIVE_INT, {ne},
                   block.empty() ? nullptr : block.data());
     for (const auto& f : fields)
-      write_dataset(file.get(), tmp, f.name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+      write_dataset(file, tmp, f.name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                     {f.cell_centered ? ne : nn, static_cast<hsize_t>(f.n_components)},
                     f.values.empty() ? nullptr : f.values.data());
-    if (!file.close()) throw std::runtime_error(tmp + ": cannot close the HDF5 file");
-    if (std::rename(tmp.c_str(), path.c_str()) != 0)
-      throw std::runtime_error("cannot rename " + tmp + " to " + path);
-  } catch (...) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw;
-  }
+  });
 
   Entry entry{step, time, h5, n_nodes, n_elements, {}};
   for (const auto& f : fields) entry.meta.push_back({f.name, f.n_components, f.cell_centered, {}});
@@ -253,22 +261,12 @@ void XdmfWriter::write_index() const {
 
 void write_h5_datasets(const std::string& path,
                        const std::vector<std::pair<std::string, std::vector<double>>>& datasets) {
-  const std::string tmp = path + ".tmp";
-  try {
-    H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-    if (!file.ok()) throw std::runtime_error(tmp + ": cannot create the HDF5 file");
+  write_h5_atomically(path, [&](hid_t file, const std::string& tmp) {
     for (const auto& [name, values] : datasets)
-      write_dataset(file.get(), tmp, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+      write_dataset(file, tmp, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                     {static_cast<hsize_t>(values.size())},
                     values.empty() ? nullptr : values.data());
-    if (!file.close()) throw std::runtime_error(tmp + ": cannot close the HDF5 file");
-    if (std::rename(tmp.c_str(), path.c_str()) != 0)
-      throw std::runtime_error("cannot rename " + tmp + " to " + path);
-  } catch (...) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw;
-  }
+  });
 }
 
 std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset) {
