@@ -155,6 +155,19 @@ XdmfWriter::XdmfWriter(const std::string& directory, const std::string& basename
     throw std::runtime_error(index_path_ +
                              " already exists; pass --overwrite to replace it or choose another "
                              "--out directory");
+  // Overwriting replaces the whole series: step files of an earlier (longer) run would otherwise
+  // stay beside the new index and be mistaken for this run's.
+  if (overwrite && fs::is_directory(directory_))
+    for (const auto& e : fs::directory_iterator(directory_)) {
+      const std::string name = e.path().filename().string();
+      if (name.size() == basename_.size() + 10 && name.rfind(basename_ + "_", 0) == 0 &&
+          e.path().extension() == ".h5" &&
+          std::all_of(name.begin() + basename_.size() + 1, name.end() - 3,
+                      [](char c) { return c >= '0' && c <= '9'; })) {
+        std::error_code ec;
+        fs::remove(e.path(), ec);
+      }
+    }
   // An empty index at once: a reader never pairs the old index with this run's step files, and
   // a second writer aimed at the same place is refused from the start.
   write_index();

@@ -21,7 +21,8 @@ class XdmfWriter {
  public:
   // Files go to directory/<basename>_<step>.h5 and directory/<basename>.xdmf. The directory is
   // created if missing. An existing index of the same name is overwritten only if `overwrite`;
-  // otherwise the constructor throws std::runtime_error naming the file.
+  // otherwise the constructor throws std::runtime_error naming the file. Overwriting also removes
+  // the step files <basename>_NNNNNN.h5 of the earlier series.
   XdmfWriter(const std::string& directory, const std::string& basename, bool overwrite);
 
   // Writes mesh coordinates, connectivity, block id (cell field "block") and the fields at `time`.

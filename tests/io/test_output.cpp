@@ -148,6 +148,20 @@ TEST_F(XdmfOutput, RefusesToOverwriteAnExistingIndexUnlessAsked) {
   EXPECT_NE(x.find("<Time Value=\"1\"/>"), std::string::npos);
 }
 
+TEST_F(XdmfOutput, OverwritingRemovesTheEarlierSeriesStepFiles) {
+  write_two_steps();
+  const fs::path other = dir_ / "other_000001.h5", keep = dir_ / "run_notes.h5";
+  std::ofstream(other) << "x";
+  std::ofstream(keep) << "x";
+  XdmfWriter fresh(dir_.string(), "run", true);
+  int steps = 0;
+  for (const auto& e : fs::directory_iterator(dir_))
+    if (e.path().filename().string().rfind("run_0", 0) == 0) ++steps;
+  EXPECT_EQ(steps, 0);             // no stale step file beside the new, empty index
+  EXPECT_TRUE(fs::exists(other));  // another series' and unrelated files stay
+  EXPECT_TRUE(fs::exists(keep));
+}
+
 TEST_F(XdmfOutput, CreatesMissingDirectories) {
   const fs::path nested = dir_ / "a" / "b";
   XdmfWriter w(nested.string(), "run", false);
