@@ -37,6 +37,16 @@ bool zero_rhs(Real b_norm, Vector x, KrylovResult& res) {
   return true;
 }
 
+// A non-finite right-hand side ("NaN") or a zero one (x = 0) needs no iteration.
+bool answered_without_iterating(Real b_norm, Vector x, KrylovResult& res) {
+  if (!std::isfinite(b_norm)) {
+    res.reason = "NaN";
+    res.initial_residual = res.final_residual = b_norm;
+    return true;
+  }
+  return zero_rhs(b_norm, x, res);
+}
+
 }  // namespace
 
 KrylovResult cg(const ApplyFn& apply, const ApplyFn& precondition, ConstVector b, Vector x,
@@ -44,12 +54,7 @@ KrylovResult cg(const ApplyFn& apply, const ApplyFn& precondition, ConstVector b
   KrylovResult res;
   const int n = static_cast<int>(b.extent(0));
   const Real b_norm = norm2(b);
-  if (!std::isfinite(b_norm)) {
-    res.reason = "NaN";
-    res.initial_residual = res.final_residual = b_norm;
-    return res;
-  }
-  if (zero_rhs(b_norm, x, res)) return res;
+  if (answered_without_iterating(b_norm, x, res)) return res;
   const Real tol = std::max(opt.abs_tol, opt.rel_tol * b_norm);
 
   Vector r = make_vector("biofsi::cg::r", n);
@@ -128,12 +133,7 @@ KrylovResult fgmres(const ApplyFn& apply, const ApplyFn& precondition, ConstVect
   KrylovResult res;
   const int n = static_cast<int>(b.extent(0));
   const Real b_norm = norm2(b);
-  if (!std::isfinite(b_norm)) {
-    res.reason = "NaN";
-    res.initial_residual = res.final_residual = b_norm;
-    return res;
-  }
-  if (zero_rhs(b_norm, x, res)) return res;
+  if (answered_without_iterating(b_norm, x, res)) return res;
   const Real tol = std::max(opt.abs_tol, opt.rel_tol * b_norm);
   const int m = std::max(1, opt.restart);
 

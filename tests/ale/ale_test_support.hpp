@@ -13,11 +13,10 @@
 #include "ale/mesh_motion.hpp"
 #include "kernels/ale/pointwise.hpp"
 #include "mesh/mesh.hpp"
+#include "scalar/scalar_test_support.hpp"
 
 namespace biofsi {
 namespace test {
-
-constexpr double pi = 3.14159265358979323846;
 
 using HostVector = std::vector<double>;
 
@@ -35,18 +34,7 @@ inline Vector to_device(const HostVector& v) {
   return d;
 }
 
-// [0,1] x [blocks along y] x [0,thickness] with nx elements along x and nz along z.
-inline Mesh box_mesh(int nx, int nz, double thickness, const std::vector<BoxBlock>& blocks) {
-  BoxSpec spec;
-  spec.x0 = 0;
-  spec.x1 = 1;
-  spec.z0 = 0;
-  spec.z1 = thickness;
-  spec.nx = nx;
-  spec.nz = nz;
-  spec.blocks = blocks;
-  return make_box_mesh(spec);
-}
+// box_mesh(nx, nz, thickness, blocks) is shared with the scalar tests.
 
 // A smooth, fully 3-D map of the unit cube onto itself that keeps every side on its plane: each
 // coordinate moves by amplitude * sin(pi x_i) times a function of the other two, so the normal
@@ -95,12 +83,6 @@ inline Mesh moved(const Mesh& mesh, const std::vector<Point>& d) {
   Mesh m = mesh;
   for (int n = 0; n < m.n_nodes(); ++n)
     for (int c = 0; c < 3; ++c) m.x[n][c] += d[n][c];
-  return m;
-}
-
-inline double max_abs(const HostVector& v) {
-  double m = 0;
-  for (double x : v) m = std::max(m, std::abs(x));
   return m;
 }
 
