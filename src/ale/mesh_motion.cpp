@@ -79,31 +79,14 @@ std::vector<Point> MeshMotion::solve(const Mesh& mesh, const MeshDisplacementBc&
                                      const std::string& label, MeshMotionResult* result) {
   bind(mesh);
   const int nn = mesh.n_nodes(), n = 3 * nn;
-  // Constrained dofs and their values.
-  std::vector<int> dofs;
-  std::vector<double> values;
+  Constraints constraints;
   for (const auto& [node, mask] : bc.fixed)
     for (int c = 0; c < 3; ++c)
-      if (mask[c]) {
-        dofs.push_back(3 * node + c);
-        values.push_back(bc.value.at(node)[c]);
-      }
-  Kokkos::View<char*, MemSpace> fixed("biofsi::mesh_fixed", n);
-  IndexView fixed_dofs("biofsi::mesh_fixed_dofs", dofs.size());
+      if (mask[c]) constraints.add(3 * node + c, bc.value.at(node)[c]);
+  const auto fixed = constraints.mask(n);
+  const IndexView fixed_dofs = constraints.dofs();
   Vector d("biofsi::mesh_displacement", n);
-  {
-    auto fh = Kokkos::create_mirror_view(fixed);
-    auto ih = Kokkos::create_mirror_view(fixed_dofs);
-    auto dh = Kokkos::create_mirror_view(d);
-    for (size_t i = 0; i < dofs.size(); ++i) {
-      fh(dofs[i]) = 1;
-      ih(i) = dofs[i];
-      dh(dofs[i]) = values[i];
-    }
-    Kokkos::deep_copy(fixed, fh);
-    Kokkos::deep_copy(fixed_dofs, ih);
-    Kokkos::deep_copy(d, dh);
-  }
+  set_constrained(fixed_dofs, constraints.values(), d);
   // One Newton step of a linear problem: K_ff delta_f = -(K d0)_f, delta_c = 0.
   Vector rhs("biofsi::mesh_rhs", n), scratch("biofsi::mesh_scratch", n);
   Vector delta("biofsi::mesh_delta", n);

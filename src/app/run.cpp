@@ -352,7 +352,6 @@ class Driver {
   void write(int step, double time, std::vector<OutputField> extra) {
     extra.insert(extra.begin(), {"phi", 1, false, field_.solution_host()});
     writer_.write(step, time, mesh_, extra);
-    last_written_ = step;
   }
 
   void write_checkpoint(int growth_steps_done) {
@@ -475,7 +474,6 @@ class Driver {
   XdmfWriter writer_;
   Clock::time_point start_;
   bool tty_ = isatty(STDOUT_FILENO);
-  int last_written_ = -1;
   int first_growth_step_ = 0;
   GrowthTotals totals_;
 };

@@ -108,21 +108,12 @@ TransportField::TransportField(const Mesh& mesh, const TransportSettings& settin
       faces_.push_back(std::move(term));
     }
   }
-  std::vector<int> fixed;
-  for (const auto& kv : dirichlet_) fixed.push_back(kv.first);
-  fixed_dofs_ = IndexView("biofsi::fixed_dofs", fixed.size());
-  {
-    auto h = Kokkos::create_mirror_view(fixed_dofs_);
-    for (size_t i = 0; i < fixed.size(); ++i) h(i) = fixed[i];
-    Kokkos::deep_copy(fixed_dofs_, h);
-  }
-  fixed_values_ = Vector("biofsi::fixed_values", fixed.size());
-  fixed_ = Kokkos::View<char*, MemSpace>("biofsi::fixed_mask", nn);
-  {
-    auto h = Kokkos::create_mirror_view(fixed_);
-    for (int n : fixed) h(n) = 1;
-    Kokkos::deep_copy(fixed_, h);
-  }
+  // Which dofs are fixed never changes; their values are set at every step (impose_dirichlet).
+  Constraints fixed;
+  for (const auto& kv : dirichlet_) fixed.add(kv.first, 0.0);
+  fixed_dofs_ = fixed.dofs();
+  fixed_values_ = fixed.values();
+  fixed_ = fixed.mask(nn);
   volume_weights_ = to_device_vector(
       nodal_integrals(mesh_, dmesh_, all_elements_, UnitVolumeIntegrand{}, phi_), "biofsi::vol");
 }
