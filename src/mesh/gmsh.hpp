@@ -1,0 +1,38 @@
+// Gmsh mesh input (MSH 4.1 ASCII) and sub-meshes of selected blocks, for geometries that the box
+// generator cannot make (channels with a cylinder, the Turek-Hron flag). Part of src/mesh: may
+// include the rest of src/mesh and the standard library only.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace biofsi {
+
+// Malformed or unsupported mesh file; the message names the file, the line and what was expected.
+struct MeshFileError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Reads a MSH 4.1 ASCII file into a hex8 mesh, from either
+// - hexahedra (element type 5): physical volumes become element blocks (every hexahedron in
+//   exactly one), physical surfaces face sets and node sets, physical curves and points node sets;
+// - or, if the file has no hexahedra, a 2-D quadrilateral mesh in the plane z = 0, extruded into
+//   one layer of hexahedra of the given thickness (the pseudo-2-D runs): physical surfaces become
+//   blocks, physical curves the extruded side faces (face and node sets), and the sets "front"
+//   (z = 0) and "back" (z = thickness) are added.
+// A face shared by two hexahedra (an interface between blocks) is in its face set once per side,
+// so that a sub-mesh of one block keeps that block's side; integrate over one side by filtering on
+// the element's block. Left-handed hexahedra are reordered; nodes no hexahedron uses are dropped.
+// Throws MeshFileError naming the file, the line and what was expected.
+Mesh read_gmsh(const std::string& path, double thickness = 0);
+
+// The elements of the named blocks with the nodes they use, renumbered in the parent's order; block
+// names keep their order, sets are restricted to what remains (empty ones dropped).
+// parent_node, if given, receives for each sub-mesh node its node in `mesh`.
+Mesh submesh(const Mesh& mesh, const std::vector<std::string>& blocks,
+             std::vector<int>* parent_node = nullptr);
+
+}  // namespace biofsi
