@@ -165,7 +165,7 @@ class Driver {
   Driver(const Scene& scene, const std::filesystem::path& out, bool overwrite)
       : scene_(scene),
         out_(out),
-        mesh_(make_box_mesh(scene.box)),
+        mesh_(make_scene_mesh(scene)),
         field_(mesh_, transport_settings(scene, mesh_), transport_conditions(scene)),
         writer_(out.string(), "scalar", overwrite),
         start_(Clock::now()) {

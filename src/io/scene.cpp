@@ -17,6 +17,7 @@
 #include <tuple>
 
 #include "io/expression.hpp"
+#include "mesh/gmsh.hpp"
 
 namespace biofsi {
 
@@ -137,6 +138,7 @@ class MapView {
   }
 
   const Checker& checker() const { return c_; }
+  const Node& node() const { return node_; }
   const std::string& key() const { return key_; }
   std::string key(const std::string& name) const { return child_key(key_, name); }
 
@@ -301,9 +303,66 @@ bool valid_block_name(const std::string& s) {
   return true;
 }
 
-void read_mesh(const Checker& c, const Node& node, Scene& scene) {
-  MapView m(c, node, "mesh", {"type", "x", "z", "nx", "nz", "blocks"});
-  get_choice(m, "type", {"box"}, std::nullopt);
+// mesh: {type: gmsh, file: <path relative to the scene>, thickness: <for a 2-D file>}. The file is
+// read here, so that a bad mesh and unknown set names are reported before anything runs.
+std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& scene) {
+  const std::string expected = "the path of a MSH 4.1 ASCII file, relative to the scene file";
+  const Node file = m.require("file", expected);
+  const std::string name = string_value(c, file, m.key("file"), expected);
+  std::filesystem::path path(name);
+  if (path.is_relative()) path = std::filesystem::path(c.file()).parent_path() / path;
+  scene.gmsh_file = path.lexically_normal().string();
+  scene.gmsh_thickness = get_number(
+      m, "thickness", [](double v) { return v > 0; },
+      "a number > 0 [mm] (the hex layer a 2-D mesh is extruded into)", 0.0);
+  Mesh mesh;
+  try {
+    mesh = read_gmsh(scene.gmsh_file, scene.gmsh_thickness);
+  } catch (const MeshFileError& e) {
+    c.fail(file, m.key("file"), std::string("cannot use the mesh (") + e.what() + ")", name,
+           expected + " with hexahedra, or quadrilaterals and mesh.thickness");
+  }
+  for (const auto& b : mesh.block_names)
+    if (!valid_block_name(b))
+      c.fail(file, m.key("file"), "a physical group has an invalid block name", b,
+             "names of letters, digits and underscores");
+  scene.block_names = mesh.block_names;
+  std::set<std::string> sets;
+  for (const auto& [set, faces] : mesh.face_sets) sets.insert(set);
+  return sets;
+}
+
+void read_box_mesh(const Checker& c, const MapView& m, Scene& scene);
+
+// Returns the names of the mesh's face sets.
+std::set<std::string> read_mesh(const Checker& c, const Node& node, Scene& scene) {
+  MapView m(c, node, "mesh", {"type", "x", "z", "nx", "nz", "blocks", "file", "thickness"});
+  scene.mesh_type = get_choice(m, "type", {"box", "gmsh"}, std::nullopt);
+  const std::vector<std::string> box_keys = {"x", "z", "nx", "nz", "blocks"},
+                                 gmsh_keys = {"file", "thickness"};
+  for (const auto& key : scene.mesh_type == "box" ? gmsh_keys : box_keys)
+    if (auto n = m.get(key))
+      c.fail(*n, m.key(key), "not a key of a " + scene.mesh_type + " mesh", key,
+             "the keys " + join_list(scene.mesh_type == "box" ? box_keys : gmsh_keys));
+  if (scene.mesh_type == "gmsh") return read_gmsh_mesh(c, m, scene);
+  read_box_mesh(c, m, scene);
+  for (const auto& b : scene.box.blocks) scene.block_names.push_back(b.name);
+  // Face-set names depend only on the block names, not on the resolution: a one-element-thick
+  // copy names every set at negligible cost whatever the scene's size.
+  BoxSpec coarse = scene.box;
+  coarse.nx = coarse.nz = 1;
+  for (auto& b : coarse.blocks) b.ny = 1;
+  std::set<std::string> face_sets;
+  try {
+    for (const auto& [name, faces] : make_box_mesh(coarse).face_sets) face_sets.insert(name);
+  } catch (const std::invalid_argument& e) {
+    c.fail(node, "mesh", e.what(), std::nullopt, "a valid box mesh");
+  }
+  return face_sets;
+}
+
+void read_box_mesh(const Checker& c, const MapView& m, Scene& scene) {
+  const Node& node = m.node();
   BoxSpec& box = scene.box;
   std::tie(box.x0, box.x1) = get_interval(m, "x");
   std::tie(box.z0, box.z1) = get_interval(m, "z");
@@ -379,8 +438,7 @@ void read_mesh(const Checker& c, const Node& node, Scene& scene) {
 }
 
 void read_materials(const Checker& c, const Node& node, Scene& scene) {
-  std::vector<std::string> blocks;
-  for (const auto& b : scene.box.blocks) blocks.push_back(b.name);
+  const std::vector<std::string>& blocks = scene.block_names;
   const std::string expected = "a map with one material per block (" + join_list(blocks) + ")";
   if (!node.IsMap()) c.wrong_type(node, "materials", expected);
   std::set<std::string> seen;
@@ -538,9 +596,7 @@ void read_growth(const Checker& c, const Node& node, const std::set<std::string>
   g.interface =
       boundary_name(c, m.require("interface", "the face set of the biofilm-fluid interface"),
                     m.key("interface"), face_sets);
-  std::vector<std::string> blocks;
-  for (const auto& b : scene.box.blocks) blocks.push_back(b.name);
-  g.biofilm_block = get_choice(m, "biofilm_block", blocks, std::nullopt);
+  g.biofilm_block = get_choice(m, "biofilm_block", scene.block_names, std::nullopt);
   // The interface's faces belong to the block below it; that block is the one that grows.
   const auto& bs = scene.box.blocks;
   for (size_t i = 0; i + 1 < bs.size(); ++i)
@@ -589,18 +645,8 @@ Scene read_scene(const Node& root, const Checker& c) {
   MapView m(c, root, "", top, "a map with keys " + join_list(top));
   Scene scene;
   scene.file = c.file();
-  read_mesh(c, m.require("mesh", "a map describing the mesh (type: box, ...)"), scene);
-  // Face-set names depend only on the block names, not on the resolution: a one-element-thick
-  // copy names every set at negligible cost whatever the scene's size.
-  BoxSpec coarse = scene.box;
-  coarse.nx = coarse.nz = 1;
-  for (auto& b : coarse.blocks) b.ny = 1;
-  std::set<std::string> face_sets;
-  try {
-    for (const auto& [name, faces] : make_box_mesh(coarse).face_sets) face_sets.insert(name);
-  } catch (const std::invalid_argument& e) {
-    c.fail(*m.get("mesh"), "mesh", e.what(), std::nullopt, "a valid box mesh");
-  }
+  const std::set<std::string> face_sets =
+      read_mesh(c, m.require("mesh", "a map describing the mesh (type: box or gmsh, ...)"), scene);
   read_materials(c, m.require("materials", "a map with one material per block"), scene);
   read_fields(c, m.get("fields").value_or(Node()), face_sets, scene);
   read_time(c, m.require("time", "a map with dt [ms] and steps"), scene);
@@ -752,6 +798,11 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path + ": cannot read the scene file: " + std::strerror(errno));
   return parse_scene(text.str(), path, overrides);
+}
+
+Mesh make_scene_mesh(const Scene& scene) {
+  return scene.mesh_type == "gmsh" ? read_gmsh(scene.gmsh_file, scene.gmsh_thickness)
+                                   : make_box_mesh(scene.box);
 }
 
 }  // namespace biofsi

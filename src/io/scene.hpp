@@ -98,8 +98,14 @@ struct MeshMotionSpec {
 };
 
 struct Scene {
-  std::string file;                               // path the scene was read from
-  BoxSpec box;                                    // mesh: the structured multi-block box generator
+  std::string file;  // path the scene was read from
+  // mesh: type "box" (the structured multi-block generator, `box`) or "gmsh" (a MSH 4.1 file,
+  // `gmsh_file` resolved against the scene's folder; a 2-D file is extruded by `gmsh_thickness`).
+  std::string mesh_type = "box";
+  BoxSpec box;
+  std::string gmsh_file;
+  double gmsh_thickness = 0;
+  std::vector<std::string> block_names;           // of either kind of mesh, in block order
   std::map<std::string, MaterialSpec> materials;  // by block name; every block has one
   ScalarFieldSpec scalar;
   TimeSpec time;
@@ -108,6 +114,9 @@ struct Scene {
   GrowthSpec growth;
   MeshMotionSpec mesh_motion;
 };
+
+// The scene's mesh (generated, or read from its Gmsh file).
+Mesh make_scene_mesh(const Scene& scene);
 
 // Reads and validates a scene. `overrides` are "dotted.key=value" strings (e.g. "time.dt=0.5",
 // "mesh.blocks.1.ny=40") applied to the YAML tree before validation. Throws SceneError before any

@@ -434,6 +434,49 @@ TEST_F(SceneFile, ReportsAMissingFile) {
   EXPECT_THROW(load_scene(dir_.string()), SceneError);
 }
 
+// A Gmsh mesh: the file is found next to the scene, read during validation, and its block and set
+// names are what the rest of the scene is checked against.
+TEST_F(SceneFile, ReadsAGmshMeshRelativeToTheSceneFile) {
+  fs::copy_file(std::string(BIOFSI_MESH_DIR) + "/dfg_2d1_r1.msh", dir_ / "channel.msh");
+  const std::string gmsh_mesh = "mesh:\n  type: gmsh\n  file: channel.msh\n  thickness: 0.01\n";
+  const std::string minimal_tail = kMinimal.substr(kMinimal.find("materials:"));
+  const std::string with_flux = minimal_tail + "output:\n  flux_boundaries: [cylinder]\n";
+  const std::string path = write("channel.yaml", gmsh_mesh + with_flux);
+  const Scene s = load_scene(path);
+  EXPECT_EQ(s.mesh_type, "gmsh");
+  EXPECT_EQ(s.gmsh_file, (dir_ / "channel.msh").lexically_normal().string());
+  EXPECT_EQ(s.gmsh_thickness, 0.01);
+  EXPECT_EQ(s.block_names, std::vector<std::string>{"fluid"});
+  const Mesh mesh = make_scene_mesh(s);
+  EXPECT_TRUE(mesh.face_sets.count("cylinder"));
+  EXPECT_GT(mesh.n_elements(), 1000);
+
+  auto error = [&](const std::string& text) {
+    try {
+      load_scene(write("bad.yaml", text));
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // A set the mesh does not have.
+  const std::string unknown =
+      error(gmsh_mesh + minimal_tail + "output:\n  flux_boundaries: [top]\n");
+  EXPECT_TRUE(contains(unknown, "output.flux_boundaries[0]: unknown boundary; got 'top'"))
+      << unknown;
+  EXPECT_TRUE(contains(unknown, "cylinder")) << unknown;
+  // A 2-D mesh without a thickness: the reader's message, under the key that names the file.
+  const std::string thin = error(replaced(gmsh_mesh, "  thickness: 0.01\n", "") + minimal_tail);
+  EXPECT_TRUE(contains(thin, "bad.yaml:3: mesh.file: cannot use the mesh")) << thin;
+  EXPECT_TRUE(contains(thin, "needs a thickness > 0")) << thin;
+  // A missing file and a box key under a gmsh mesh.
+  const std::string missing = error(replaced(gmsh_mesh, "channel.msh", "nope.msh") + minimal_tail);
+  EXPECT_TRUE(contains(missing, "mesh.file: cannot use the mesh")) << missing;
+  EXPECT_TRUE(contains(missing, "got 'nope.msh'")) << missing;
+  const std::string mixed = error(gmsh_mesh + "  nx: 3\n" + minimal_tail);
+  EXPECT_TRUE(contains(mixed, "mesh.nx: not a key of a gmsh mesh")) << mixed;
+}
+
 TEST(SceneOverrides, ChangeValuesIncludingListEntries) {
   const Scene s = parse_scene(
       kFull, kFile,
