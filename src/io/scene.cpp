@@ -472,9 +472,78 @@ void read_materials(const Checker& c, const Node& node, Scene& scene) {
              "a map with diffusivity [mm^2/ms] and optional Monod constants");
 }
 
+void read_fluid_field(const Checker& c, const MapView& f, const std::set<std::string>& face_sets,
+                      Scene& scene) {
+  auto node = f.get("fluid");
+  if (!node) return;
+  MapView m(c, *node, f.key("fluid"),
+            {"enabled", "blocks", "density", "viscosity", "mode", "supg", "grad_div", "pseudo_2d",
+             "preconditioner", "boundary_conditions"});
+  FluidFieldSpec& spec = scene.fluid;
+  spec.enabled = get_bool(m, "enabled", true);
+  const std::string blocks_expected =
+      "a list of the blocks that hold fluid: one or more of " + join_list(scene.block_names);
+  const Node blocks = m.require("blocks", blocks_expected);
+  if (!blocks.IsSequence() || blocks.size() == 0)
+    c.wrong_type(blocks, m.key("blocks"), blocks_expected);
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    const std::string b =
+        string_value(c, blocks[i], index_key(m.key("blocks"), i), blocks_expected);
+    if (std::find(scene.block_names.begin(), scene.block_names.end(), b) == scene.block_names.end())
+      c.fail(blocks[i], index_key(m.key("blocks"), i), "unknown block", b, blocks_expected);
+    spec.blocks.push_back(b);
+  }
+  auto positive = [](double v) { return v > 0; };
+  spec.density = get_number(m, "density", positive, "a number > 0 [mass/mm^3]", std::nullopt);
+  spec.viscosity =
+      get_number(m, "viscosity", positive, "a number > 0 (dynamic) [mass/(mm ms)]", std::nullopt);
+  spec.mode = get_choice(m, "mode", {"steady", "transient"}, spec.mode);
+  spec.supg = get_bool(m, "supg", spec.supg);
+  spec.grad_div = get_bool(m, "grad_div", spec.grad_div);
+  spec.pseudo_2d = get_bool(m, "pseudo_2d", spec.pseudo_2d);
+  spec.preconditioner =
+      get_choice(m, "preconditioner", {"monolithic_amg", "simple"}, spec.preconditioner);
+  const std::string key = m.key("boundary_conditions");
+  const std::string list_expected = "a list of fluid boundary conditions {boundary, type, ...}";
+  const Node bcs = m.require("boundary_conditions", list_expected);
+  if (!bcs.IsSequence() || bcs.size() == 0) c.wrong_type(bcs, key, list_expected);
+  std::vector<std::string> names(face_sets.begin(), face_sets.end());
+  for (size_t i = 0; i < bcs.size(); ++i) {
+    const Node item = bcs[i];
+    const std::string ikey = index_key(key, i);
+    if (!item.IsMap()) c.wrong_type(item, ikey, "a map {boundary, type, ...}");
+    MapView typed(c, item, ikey, {"boundary", "type", "value"});
+    FluidBc bc;
+    bc.line = item.Mark().is_null() ? 0 : item.Mark().line + 1;
+    bc.type = get_choice(typed, "type", {"velocity", "no_slip", "slip", "pressure", "do_nothing"},
+                         std::nullopt);
+    const Node b = typed.require("boundary", "a face set of the mesh: " + join_list(names));
+    bc.boundary = boundary_name(c, b, typed.key("boundary"), face_sets);
+    const bool has_value = bc.type == "velocity" || bc.type == "pressure";
+    if (auto v = typed.get("value")) {
+      if (!has_value)
+        c.fail(*v, typed.key("value"), "a " + bc.type + " condition takes no value", render(*v),
+               "no value key");
+      if (bc.type == "velocity") {
+        const std::string expected = "a list of 3 expressions (velocity components)";
+        if (!v->IsSequence() || v->size() != 3) c.wrong_type(*v, typed.key("value"), expected);
+        for (size_t d = 0; d < 3; ++d)
+          bc.value[d] = expression(c, (*v)[d], index_key(typed.key("value"), d));
+      } else {
+        bc.value[0] = expression(c, *v, typed.key("value"));
+      }
+    } else if (has_value) {
+      typed.missing("value", bc.type == "velocity" ? "a list of 3 expressions" : "an expression",
+                    "");
+    }
+    spec.boundary_conditions.push_back(bc);
+  }
+}
+
 void read_fields(const Checker& c, const Node& node, const std::set<std::string>& face_sets,
                  Scene& scene) {
-  MapView f(c, node, "fields", {"scalar"});
+  MapView f(c, node, "fields", {"scalar", "fluid"});
+  read_fluid_field(c, f, face_sets, scene);
   auto scalar_node = f.get("scalar");
   if (!scalar_node) return;
   MapView s(c, *scalar_node, f.key("scalar"),
@@ -483,6 +552,9 @@ void read_fields(const Checker& c, const Node& node, const std::set<std::string>
   spec.enabled = get_bool(s, "enabled", spec.enabled);
   spec.initial = get_expression(s, "initial", spec.initial);
   if (auto v = s.get("velocity")) {
+    if (scene.fluid.enabled)
+      c.fail(*v, s.key("velocity"), "a prescribed velocity while the fluid field is on", render(*v),
+             "no velocity key: the scalar is convected by the fluid's velocity");
     const std::string expected = "a list of 3 expressions (velocity components)";
     if (!v->IsSequence() || v->size() != 3) c.wrong_type(*v, s.key("velocity"), expected);
     for (size_t i = 0; i < 3; ++i)

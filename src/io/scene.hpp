@@ -48,6 +48,32 @@ struct ScalarFieldSpec {
   std::vector<ScalarBc> boundary_conditions;
 };
 
+// A fluid boundary condition on a named face set:
+//   velocity:   u = value (3 expressions in x, y, z, t); no_slip: u = 0
+//   slip:       u . n = 0 on a wall whose normal is a coordinate axis
+//   pressure:   p = value[0]
+//   do_nothing: the natural outflow condition (nothing is imposed)
+struct FluidBc {
+  std::string boundary;
+  std::string type;  // velocity | no_slip | slip | pressure | do_nothing
+  std::array<std::string, 3> value = {"0", "0", "0"};
+  int line = 0;
+};
+
+// The fluid (paper eqs. 2-5) on `blocks`; other blocks' nodes are held at rest (a rigid biofilm
+// until the structure is coupled). Its velocity convects the scalar, and its wall shear stress on
+// the growth interface is sigma in eq. 11.
+struct FluidFieldSpec {
+  bool enabled = false;  // true when the scene has a fields.fluid section, unless enabled: false
+  std::vector<std::string> blocks;
+  double density = 1, viscosity = 1;              // > 0 [mass/mm^3], dynamic [mass/(mm ms)]
+  std::string mode = "steady";                    // steady | transient (every inner step)
+  bool supg = true, grad_div = true;              // stabilisation terms besides PSPG
+  bool pseudo_2d = false;                         // w = 0 everywhere (one element thick runs)
+  std::string preconditioner = "monolithic_amg";  // monolithic_amg | simple
+  std::vector<FluidBc> boundary_conditions;
+};
+
 enum class TimeMode { Transient, Steady };
 
 struct TimeSpec {
@@ -108,6 +134,7 @@ struct Scene {
   std::vector<std::string> block_names;           // of either kind of mesh, in block order
   std::map<std::string, MaterialSpec> materials;  // by block name; every block has one
   ScalarFieldSpec scalar;
+  FluidFieldSpec fluid;
   TimeSpec time;
   SolverSpec solver;
   OutputSpec output;

@@ -477,6 +477,71 @@ TEST_F(SceneFile, ReadsAGmshMeshRelativeToTheSceneFile) {
   EXPECT_TRUE(contains(mixed, "mesh.nx: not a key of a gmsh mesh")) << mixed;
 }
 
+// The fluid section: every key read, the scalar then convected by the fluid (no velocity key).
+const std::string kFluid = R"yaml(  fluid:
+    blocks: [fluid]
+    density: 1.0e-3
+    viscosity: 1.0e-3
+    mode: transient
+    supg: false
+    grad_div: false
+    pseudo_2d: true
+    preconditioner: simple
+    boundary_conditions:
+      - {boundary: left, type: velocity, value: ["0.0375 + 0.0125*y", 0, 0]}
+      - {boundary: biofilm_fluid, type: no_slip}
+      - {boundary: top, type: slip}
+      - {boundary: right, type: do_nothing}
+      - {boundary: bottom, type: pressure, value: "1 + t"}
+)yaml";
+
+std::string with_fluid(const std::string& scene) {
+  const std::string no_velocity = replaced(scene, "    velocity: [\"0.1*y\", \"0\", 0]\n", "");
+  return replaced(no_velocity, "fields:\n", "fields:\n" + kFluid);
+}
+
+TEST(Scene, ReadsTheFluidField) {
+  const Scene s = parse_scene(with_fluid(kFull), kFile);
+  const FluidFieldSpec& f = s.fluid;
+  EXPECT_TRUE(f.enabled);
+  EXPECT_EQ(f.blocks, std::vector<std::string>{"fluid"});
+  EXPECT_EQ(f.density, 1e-3);
+  EXPECT_EQ(f.viscosity, 1e-3);
+  EXPECT_EQ(f.mode, "transient");
+  EXPECT_FALSE(f.supg);
+  EXPECT_FALSE(f.grad_div);
+  EXPECT_TRUE(f.pseudo_2d);
+  EXPECT_EQ(f.preconditioner, "simple");
+  ASSERT_EQ(f.boundary_conditions.size(), 5u);
+  EXPECT_EQ(f.boundary_conditions[0].type, "velocity");
+  EXPECT_EQ(f.boundary_conditions[0].value[0], "0.0375 + 0.0125*y");
+  EXPECT_EQ(f.boundary_conditions[1].boundary, "biofilm_fluid");
+  EXPECT_EQ(f.boundary_conditions[1].type, "no_slip");
+  EXPECT_EQ(f.boundary_conditions[4].value[0], "1 + t");
+  EXPECT_EQ(f.boundary_conditions[2].line, line_of(with_fluid(kFull), "type: slip"));
+  EXPECT_FALSE(parse_scene(kFull, kFile).fluid.enabled);
+}
+
+TEST(Scene, RejectsBadFluidInput) {
+  const std::string good = with_fluid(kFull);
+  expect_error(replaced(good, "blocks: [fluid]", "blocks: [water]"),
+               line_of(good, "blocks: [fluid]"), "fields.fluid.blocks[0]", "water",
+               "a list of the blocks that hold fluid: one or more of");
+  expect_error(replaced(good, "viscosity: 1.0e-3", "viscosity: 0"), line_of(good, "viscosity:"),
+               "fields.fluid.viscosity", "0", "a number > 0");
+  expect_error(replaced(good, "type: no_slip}", "type: no_slip, value: 1}"),
+               line_of(good, "type: no_slip"), "fields.fluid.boundary_conditions[1].value", "1",
+               "no value key");
+  expect_error(replaced(good, "value: \"1 + t\"", "value: \"1 + q\""), line_of(good, "1 + t"),
+               "fields.fluid.boundary_conditions[4].value", "1 + q", "an expression");
+  expect_error(replaced(good, "type: slip", "type: sliding"), line_of(good, "type: slip"),
+               "fields.fluid.boundary_conditions[2].type", "sliding", "one of");
+  // A prescribed scalar velocity would silently lose against the fluid's.
+  const std::string both = replaced(kFull, "fields:\n", "fields:\n" + kFluid);
+  expect_error(both, line_of(both, "velocity: [\"0.1"), "fields.scalar.velocity", "",
+               "no velocity key: the scalar is convected by the fluid's velocity");
+}
+
 TEST(SceneOverrides, ChangeValuesIncludingListEntries) {
   const Scene s = parse_scene(
       kFull, kFile,
