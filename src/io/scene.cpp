@@ -315,12 +315,29 @@ std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& 
   scene.gmsh_thickness = get_number(
       m, "thickness", [](double v) { return v > 0; },
       "a number > 0 [mm] (the hex layer a 2-D mesh is extruded into)", 0.0);
+  const bool geo = path.extension() == ".geo";
+  if (auto p = m.get("parameters")) {
+    const std::string p_expected = "a map of gmsh -setnumber parameters, e.g. {refine: 2}";
+    if (!geo)
+      c.fail(*p, m.key("parameters"), "parameters are for a .geo file", render(*p),
+             "a .geo mesh file, or no parameters");
+    if (!p->IsMap()) c.wrong_type(*p, m.key("parameters"), p_expected);
+    for (auto it = p->begin(); it != p->end(); ++it) {
+      const std::string pname = it->first.as<std::string>();
+      scene.gmsh_parameters.emplace_back(
+          pname, number(
+                     c, it->second, child_key(m.key("parameters"), pname),
+                     [](double v) { return std::isfinite(v); }, p_expected));
+    }
+  }
   Mesh mesh;
   try {
-    mesh = read_gmsh(scene.gmsh_file, scene.gmsh_thickness);
+    mesh = make_scene_mesh(scene);
   } catch (const MeshFileError& e) {
     c.fail(file, m.key("file"), std::string("cannot use the mesh (") + e.what() + ")", name,
-           expected + " with hexahedra, or quadrilaterals and mesh.thickness");
+           expected +
+               " (.msh, or .geo meshed by gmsh) with hexahedra, or quadrilaterals and "
+               "mesh.thickness");
   }
   for (const auto& b : mesh.block_names)
     if (!valid_block_name(b))
@@ -336,10 +353,11 @@ void read_box_mesh(const Checker& c, const MapView& m, Scene& scene);
 
 // Returns the names of the mesh's face sets.
 std::set<std::string> read_mesh(const Checker& c, const Node& node, Scene& scene) {
-  MapView m(c, node, "mesh", {"type", "x", "z", "nx", "nz", "blocks", "file", "thickness"});
+  MapView m(c, node, "mesh",
+            {"type", "x", "z", "nx", "nz", "blocks", "file", "thickness", "parameters"});
   scene.mesh_type = get_choice(m, "type", {"box", "gmsh"}, std::nullopt);
   const std::vector<std::string> box_keys = {"x", "z", "nx", "nz", "blocks"},
-                                 gmsh_keys = {"file", "thickness"};
+                                 gmsh_keys = {"file", "thickness", "parameters"};
   for (const auto& key : scene.mesh_type == "box" ? gmsh_keys : box_keys)
     if (auto n = m.get(key))
       c.fail(*n, m.key(key), "not a key of a " + scene.mesh_type + " mesh", key,
@@ -633,19 +651,25 @@ void read_solver(const Checker& c, const Node& node, Scene& scene) {
 
 void read_output(const Checker& c, const Node& node, const std::set<std::string>& face_sets,
                  Scene& scene) {
-  MapView m(c, node, "output", {"directory", "every", "flux_boundaries"});
+  MapView m(c, node, "output", {"directory", "every", "flux_boundaries", "force_boundaries"});
   OutputSpec& o = scene.output;
   if (auto d = m.get("directory")) {
     o.directory = string_value(c, *d, m.key("directory"), "a directory name");
     if (o.directory.empty()) c.fail(*d, m.key("directory"), "empty", "", "a directory name");
   }
   o.every = get_int(m, "every", 1, o.every);
-  auto fb = m.get("flux_boundaries");
-  if (!fb || fb->IsNull()) return;
-  if (!fb->IsSequence()) c.wrong_type(*fb, m.key("flux_boundaries"), "a list of face set names");
-  for (size_t i = 0; i < fb->size(); ++i)
-    o.flux_boundaries.push_back(
-        boundary_name(c, (*fb)[i], index_key(m.key("flux_boundaries"), i), face_sets));
+  for (const char* key : {"flux_boundaries", "force_boundaries"}) {
+    auto fb = m.get(key);
+    if (!fb || fb->IsNull()) continue;
+    if (!fb->IsSequence()) c.wrong_type(*fb, m.key(key), "a list of face set names");
+    auto& list = std::string(key) == "flux_boundaries" ? o.flux_boundaries : o.force_boundaries;
+    for (size_t i = 0; i < fb->size(); ++i)
+      list.push_back(boundary_name(c, (*fb)[i], index_key(m.key(key), i), face_sets));
+  }
+  if (!o.force_boundaries.empty() && !scene.fluid.enabled)
+    c.fail(*m.get("force_boundaries"), m.key("force_boundaries"),
+           "fluid forces asked for without a fluid field", render(*m.get("force_boundaries")),
+           "a fields.fluid section, or no force_boundaries");
 }
 
 std::vector<std::string> face_set_list(const Checker& c, const Node& n, const std::string& key,
@@ -873,8 +897,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 }
 
 Mesh make_scene_mesh(const Scene& scene) {
-  return scene.mesh_type == "gmsh" ? read_gmsh(scene.gmsh_file, scene.gmsh_thickness)
-                                   : make_box_mesh(scene.box);
+  if (scene.mesh_type != "gmsh") return make_box_mesh(scene.box);
+  if (std::filesystem::path(scene.gmsh_file).extension() == ".geo")
+    return mesh_geo_with_gmsh(scene.gmsh_file, scene.gmsh_parameters, scene.gmsh_thickness);
+  return read_gmsh(scene.gmsh_file, scene.gmsh_thickness);
 }
 
 }  // namespace biofsi

@@ -95,8 +95,9 @@ struct SolverSpec {
 
 struct OutputSpec {
   std::string directory = "out";
-  int every = 1;                             // write every N steps (and always the last)
-  std::vector<std::string> flux_boundaries;  // report the consistent flux through these sets
+  int every = 1;                              // write every N steps (and always the last)
+  std::vector<std::string> flux_boundaries;   // report the consistent flux through these sets
+  std::vector<std::string> force_boundaries;  // report the fluid's force on these sets
 };
 
 // The multi-scale growth loop (paper sections 4-5): after each inner loop (time.dt, time.steps,
@@ -129,8 +130,9 @@ struct Scene {
   // `gmsh_file` resolved against the scene's folder; a 2-D file is extruded by `gmsh_thickness`).
   std::string mesh_type = "box";
   BoxSpec box;
-  std::string gmsh_file;
+  std::string gmsh_file;  // .msh (read) or .geo (meshed by gmsh with gmsh_parameters)
   double gmsh_thickness = 0;
+  std::vector<std::pair<std::string, double>> gmsh_parameters;
   std::vector<std::string> block_names;           // of either kind of mesh, in block order
   std::map<std::string, MaterialSpec> materials;  // by block name; every block has one
   ScalarFieldSpec scalar;

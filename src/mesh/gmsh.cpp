@@ -1,7 +1,15 @@
 #include "mesh/gmsh.hpp"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <numeric>
@@ -446,6 +454,61 @@ Mesh read_gmsh(const std::string& path, double thickness) {
                         ": missing section(s); expected $MeshFormat, $Entities, $Nodes and "
                         "$Elements of a MSH 4.1 ASCII file");
   return build_mesh(path, raw, thickness);
+}
+
+Mesh mesh_geo_with_gmsh(const std::string& geo_path,
+                        const std::vector<std::pair<std::string, double>>& parameters,
+                        double thickness) {
+  namespace fs = std::filesystem;
+  if (!fs::is_regular_file(geo_path)) throw MeshFileError(geo_path + ": cannot open the .geo file");
+  const fs::path dir = fs::temp_directory_path();
+  const std::string stem =
+      "biofsi_gmsh_" + std::to_string(getpid()) + "_" + fs::path(geo_path).stem().string();
+  const std::string msh = (dir / (stem + ".msh")).string(), log = (dir / (stem + ".log")).string();
+  std::vector<std::string> args = {"gmsh", thickness > 0 ? "-2" : "-3", "-format", "msh41", "-v",
+                                   "2"};
+  for (const auto& [name, value] : parameters) {
+    std::ostringstream v;
+    v.precision(17);
+    v << value;
+    args.insert(args.end(), {"-setnumber", name, v.str()});
+  }
+  args.insert(args.end(), {geo_path, "-o", msh});
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  // gmsh's messages go to a log file, quoted in the error if it fails.
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, "gmsh", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0)
+    throw MeshFileError(geo_path + ": cannot run gmsh (" + std::strerror(spawned) +
+                        "); install Debian's gmsh (scripts/setup does)");
+  int status = 0;
+  waitpid(pid, &status, 0);
+  std::ifstream log_in(log);
+  std::string messages((std::istreambuf_iterator<char>(log_in)), std::istreambuf_iterator<char>());
+  fs::remove(log);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(msh)) {
+    fs::remove(msh);
+    throw MeshFileError(geo_path + ": gmsh failed (" +
+                        (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
+                                           : std::string("killed by a signal")) +
+                        "): " + messages);
+  }
+  try {
+    Mesh m = read_gmsh(msh, thickness);
+    fs::remove(msh);
+    return m;
+  } catch (...) {
+    fs::remove(msh);
+    throw;
+  }
 }
 
 Mesh submesh(const Mesh& mesh, const std::vector<std::string>& blocks,

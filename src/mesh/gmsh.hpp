@@ -29,6 +29,13 @@ struct MeshFileError : std::runtime_error {
 // Throws MeshFileError naming the file, the line and what was expected.
 Mesh read_gmsh(const std::string& path, double thickness = 0);
 
+// Meshes a .geo file with Debian's gmsh (found on PATH) into a temporary MSH 4.1 file and reads
+// it: 2-D (-2) and extruded when thickness > 0, 3-D (-3) otherwise. `parameters` are passed as
+// -setnumber NAME VALUE (e.g. refine). Throws MeshFileError with gmsh's exit status and messages.
+Mesh mesh_geo_with_gmsh(const std::string& geo_path,
+                        const std::vector<std::pair<std::string, double>>& parameters,
+                        double thickness);
+
 // The elements of the named blocks with the nodes they use, renumbered in the parent's order; block
 // names keep their order, sets are restricted to what remains (empty ones dropped).
 // parent_node, if given, receives for each sub-mesh node its node in `mesh`.
