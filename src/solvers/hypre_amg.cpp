@@ -55,6 +55,10 @@ struct BoomerAmg::Impl {
   HYPRE_ParCSRMatrix par_matrix = nullptr;
   HYPRE_ParVector par_b = nullptr, par_x = nullptr;
   HYPRE_Solver solver = nullptr;
+  // Interpolation vectors: hypre keeps pointers to the finest level's ones (the caller's input)
+  // and never frees them, so they live here until the solver is gone.
+  std::vector<HYPRE_IJVector> ij_interp;
+  std::vector<HYPRE_ParVector> interp;
 
   ~Impl() { release(); }
 
@@ -63,6 +67,9 @@ struct BoomerAmg::Impl {
     if (ij_matrix) HYPRE_IJMatrixDestroy(ij_matrix);
     if (ij_b) HYPRE_IJVectorDestroy(ij_b);
     if (ij_x) HYPRE_IJVectorDestroy(ij_x);
+    for (auto v : ij_interp) HYPRE_IJVectorDestroy(v);
+    ij_interp.clear();
+    interp.clear();
     solver = nullptr;
     ij_matrix = nullptr;
     ij_b = ij_x = nullptr;
@@ -173,6 +180,36 @@ void BoomerAmg::setup(const CsrMatrix& a) {
     // Nodal coarsening on the Frobenius norm of each node's block: all components of a node share
     // one C/F choice, as the interleaved dof layout (dof = node * n + component) expects.
     if (opt_.nodal_coarsening) HYPRE_BoomerAMGSetNodal(s, 1);
+  }
+  if (!opt_.interpolation_vectors.empty()) {
+    if (opt_.num_functions < 2)
+      throw std::invalid_argument("BoomerAmg: interpolation vectors need num_functions > 1");
+    for (const auto& v : opt_.interpolation_vectors) {
+      if (static_cast<int>(v.size()) != n)
+        throw std::invalid_argument("BoomerAmg: an interpolation vector has " +
+                                    std::to_string(v.size()) + " entries for " + std::to_string(n) +
+                                    " rows");
+      HYPRE_IJVector ij = nullptr;
+      check(HYPRE_IJVectorCreate(comm, lo, hi, &ij), "IJVectorCreate");
+      impl_->ij_interp.push_back(ij);
+      check(HYPRE_IJVectorSetObjectType(ij, HYPRE_PARCSR), "IJVectorSetObjectType");
+      check(HYPRE_IJVectorInitialize(ij), "IJVectorInitialize");
+      if (n > 0) check(HYPRE_IJVectorSetValues(ij, n, rows.data(), v.data()), "IJVectorSetValues");
+      check(HYPRE_IJVectorAssemble(ij), "IJVectorAssemble");
+      check(HYPRE_IJVectorGetObject(ij, &object), "IJVectorGetObject");
+      impl_->interp.push_back(static_cast<HYPRE_ParVector>(object));
+    }
+    // hypre's recommended elasticity set-up (its new_ij driver, -rbm): nodal strength from the
+    // row-sum norm of each node block with the diagonal kept, GM-2 interpolation vectors with at
+    // most 4 entries per row, the vectors smoothed and the interpolation refined once.
+    HYPRE_BoomerAMGSetNodal(s, 4);
+    HYPRE_BoomerAMGSetNodalDiag(s, 1);
+    HYPRE_BoomerAMGSetInterpVecVariant(s, 2);
+    HYPRE_BoomerAMGSetInterpVecQMax(s, 4);
+    HYPRE_BoomerAMGSetSmoothInterpVectors(s, 1);
+    HYPRE_BoomerAMGSetInterpRefine(s, 1);
+    HYPRE_BoomerAMGSetInterpVectors(s, static_cast<HYPRE_Int>(impl_->interp.size()),
+                                    impl_->interp.data());
   }
   check(HYPRE_BoomerAMGSetup(s, impl_->par_matrix, impl_->par_b, impl_->par_x), "BoomerAMGSetup");
   impl_->num_levels = hypre_ParAMGDataNumLevels(reinterpret_cast<hypre_ParAMGData*>(s));

@@ -60,6 +60,11 @@ struct AmgOptions {
   // it where the hierarchy is rebuilt every Newton iteration.
   int aggressive_levels = 0;
   int print_level = 0;
+  // Near-null-space vectors for systems AMG (num_functions > 1 with nodal coarsening), e.g. the
+  // rigid-body rotations of elasticity, each of length n_rows: BoomerAMG's interpolation-vector
+  // variant (GM-2, with hypre's recommended nodal norm 4 and smoothed vectors) fits them exactly in
+  // the interpolation, which the plain nodal interpolation cannot do for rotations.
+  std::vector<std::vector<Real>> interpolation_vectors;
 };
 
 // BoomerAMG on a CSR matrix (copied to a hypre IJ/ParCSR matrix; single rank: global row ids equal

@@ -1,0 +1,197 @@
+// kernels/fluid: pointwise physics of the incompressible fluid (paper eqs. 2-5) in ALE form on
+// hex8 with equal-order Q1-Q1 velocity/pressure and residual-based stabilisation. Used by
+// src/fluid (and, later, the FSI coupling); depends on kernels/core only. Nothing here knows of
+// meshes, boundary conditions or solvers.
+//
+// Unknowns per node: (u, v, w, p), interleaved. At one point, one-step-theta (theta = 1,
+// inv_dt = 0 gives the steady problem), c = u - u_grid the ALE convective velocity (eq. 4):
+//   R_M = rho ((u - u_n)/dt + theta (c.grad)u + (1 - theta)(c_n.grad)u_n - b) + grad p
+//         (strong momentum residual; the viscous second derivatives, which vanish for Q1 on affine
+//         elements, are neglected as usual for trilinear elements)
+//   momentum f0 = R_M - grad p,  f1 = mu theta E(u) + mu (1 - theta) E(u_n) - p I
+//                                     + tau_M c (x) R_M            (SUPG)
+//                                     + rho tau_C (div u) I         (grad-div)
+//   continuity f0 = div u,        f1 = tau_M R_M / rho              (PSPG)
+// with E(u) = grad u + grad u^T (symmetric, paper eq. 2) or grad u (the "Laplacian" form, whose
+// do-nothing outflow is the one the DFG/Turek benchmarks define). Pressure and continuity are
+// implicit at t_{n+1}; b is the body force at t_{n+theta}. All terms live on the current
+// configuration, so a constant state is an exact discrete solution under any mesh motion (GCL).
+//
+// Stabilisation parameters (metric form of Shakib/Tezduyar as used by Bazilevs et al., CMAME 197
+// (2007) 173, with G the metric of the reference cell [-1,1]^3 carried in QpData):
+//   tau_M = 1 / sqrt((2/dt)^2 + c.G.c + C_I nu^2 G:G),    C_I = 36 (trilinear elements)
+//   tau_C = 1 / (tau_M,s tr G),   tau_M,s = tau_M without the (2/dt)^2 term
+// In 1-D (G = 4/h^2) tau_M -> h/(2|c|) (advective) and h^2/(24 nu) (viscous), tau_C -> |c| h/2.
+// tau_C uses the steady tau_M so that grad-div does not grow like 1/dt for tiny time steps.
+//
+// Linearisation (FluidLinearisation): Full is the exact derivative of the residual, the
+// dependence of tau_M and tau_C on the convective velocity included; LaggedTau holds tau_M and
+// tau_C at their values at the current iterate (the usual choice in codes); Picard also drops
+// (du.grad)u and the variation of the SUPG test function, i.e. freezes the convective velocity.
+// tests/fluid measures the Newton iterations of the three.
+#pragma once
+
+#include "kernels/core/element_loop.hpp"
+
+namespace biofsi {
+
+// tau_M and tau_C at one point from the convective velocity, the kinematic viscosity and 1/dt.
+// d_m, d_c: derivatives with respect to the convective velocity.
+struct FluidTau {
+  Real m = 0, c = 0;
+  Real d_m[3] = {0, 0, 0}, d_c[3] = {0, 0, 0};
+};
+
+enum class FluidLinearisation { Full, LaggedTau, Picard };
+
+KOKKOS_INLINE_FUNCTION FluidTau fluid_tau(const Real c[3], const Real metric[3][3], Real nu,
+                                          Real inv_dt) {
+  constexpr Real c_inverse = 36.0;  // C_I, Bazilevs et al. (2007) for trilinear elements
+  Real cgc = 0, gg = 0, tr = 0;
+  for (int i = 0; i < 3; ++i) {
+    tr += metric[i][i];
+    for (int j = 0; j < 3; ++j) {
+      cgc += c[i] * metric[i][j] * c[j];
+      gg += metric[i][j] * metric[i][j];
+    }
+  }
+  const Real steady = cgc + c_inverse * nu * nu * gg;
+  FluidTau t;
+  const Real all = steady + 4 * inv_dt * inv_dt;
+  Real gc[3];
+  for (int i = 0; i < 3; ++i)
+    gc[i] = metric[i][0] * c[0] + metric[i][1] * c[1] + metric[i][2] * c[2];
+  if (all > 0) {
+    t.m = 1 / math::sqrt(all);
+    for (int i = 0; i < 3; ++i) t.d_m[i] = -t.m * t.m * t.m * gc[i];
+  }
+  if (steady > 0 && tr > 0) {
+    const Real root = math::sqrt(steady);
+    t.c = root / tr;
+    for (int i = 0; i < 3; ++i) t.d_c[i] = gc[i] / (root * tr);
+  }
+  return t;
+}
+
+// Element physics. Auxiliary nodal data: [u_n (3), u_grid (3), b (3)]; only u_n needs gradients.
+struct FluidPhysics {
+  static constexpr int n_components = 4, n_aux = 9, n_aux_gradients = 3;
+  Real density = 1, viscosity = 1e-3;  // rho, dynamic viscosity mu
+  Real inv_dt = 0;                     // 0: steady
+  Real theta = 1;
+  bool supg = true, grad_div = true;  // PSPG is always on: Q1-Q1 needs it
+  bool symmetric_viscous = true;
+  FluidLinearisation linearisation = FluidLinearisation::Full;
+
+  struct Local {
+    Real c[3], cn[3];
+    FluidTau tau;
+  };
+
+  KOKKOS_INLINE_FUNCTION Local local(const QpData<n_aux>& q, const Real u[4]) const {
+    Local l;
+    for (int i = 0; i < 3; ++i) {
+      l.c[i] = u[i] - q.aux[3 + i];
+      l.cn[i] = q.aux[i] - q.aux[3 + i];
+    }
+    l.tau = fluid_tau(l.c, q.metric, viscosity / density, inv_dt);
+    if (!grad_div) {
+      l.tau.c = 0;
+      for (int i = 0; i < 3; ++i) l.tau.d_c[i] = 0;
+    }
+    return l;
+  }
+
+  // Momentum terms without the pressure gradient: rho (du/dt + convection - b).
+  KOKKOS_INLINE_FUNCTION void momentum(const QpData<n_aux>& q, const Local& l, const Real u[4],
+                                       const Real gu[4][3], Real m[3]) const {
+    for (int i = 0; i < 3; ++i) {
+      Real conv = 0, conv_n = 0;
+      for (int j = 0; j < 3; ++j) {
+        conv += l.c[j] * gu[i][j];
+        conv_n += l.cn[j] * q.grad_aux[i][j];
+      }
+      m[i] = density *
+             ((u[i] - q.aux[i]) * inv_dt + theta * conv + (1 - theta) * conv_n - q.aux[6 + i]);
+    }
+  }
+
+  KOKKOS_INLINE_FUNCTION void residual(const QpData<n_aux>& q, const Real u[4], const Real gu[4][3],
+                                       Real f0[4], Real f1[4][3]) const {
+    const Local l = local(q, u);
+    Real m[3], r[3];
+    momentum(q, l, u, gu, m);
+    for (int i = 0; i < 3; ++i) r[i] = m[i] + gu[3][i];
+    const Real div = gu[0][0] + gu[1][1] + gu[2][2];
+    const Real s = symmetric_viscous ? 1.0 : 0.0;
+    for (int i = 0; i < 3; ++i) {
+      f0[i] = m[i];
+      for (int j = 0; j < 3; ++j) {
+        const Real e = gu[i][j] + s * gu[j][i];
+        const Real en = q.grad_aux[i][j] + s * q.grad_aux[j][i];
+        f1[i][j] =
+            viscosity * (theta * e + (1 - theta) * en) + (supg ? l.tau.m * l.c[j] * r[i] : 0.0);
+      }
+      f1[i][i] += density * l.tau.c * div - u[3];
+    }
+    f0[3] = div;
+    for (int j = 0; j < 3; ++j) f1[3][j] = l.tau.m * r[j] / density;
+  }
+
+  KOKKOS_INLINE_FUNCTION void tangent(const QpData<n_aux>& q, const Real u[4], const Real gu[4][3],
+                                      const Real du[4], const Real gdu[4][3], Real df0[4],
+                                      Real df1[4][3]) const {
+    const Local l = local(q, u);
+    const bool newton = linearisation != FluidLinearisation::Picard;
+    const bool full = linearisation == FluidLinearisation::Full;
+    Real dr[3], r[3] = {0, 0, 0};
+    if (newton) {
+      Real m[3];
+      momentum(q, l, u, gu, m);
+      for (int i = 0; i < 3; ++i) r[i] = m[i] + gu[3][i];
+    }
+    // Variations of tau along dc = du (velocity part), Full only.
+    Real dtm = 0, dtc = 0;
+    if (full)
+      for (int i = 0; i < 3; ++i) {
+        dtm += l.tau.d_m[i] * du[i];
+        dtc += l.tau.d_c[i] * du[i];
+      }
+    for (int i = 0; i < 3; ++i) {
+      Real dconv = 0;
+      for (int j = 0; j < 3; ++j) dconv += l.c[j] * gdu[i][j] + (newton ? du[j] * gu[i][j] : 0.0);
+      df0[i] = density * (du[i] * inv_dt + theta * dconv);
+      dr[i] = df0[i] + gdu[3][i];
+    }
+    const Real div = gu[0][0] + gu[1][1] + gu[2][2];
+    const Real ddiv = gdu[0][0] + gdu[1][1] + gdu[2][2];
+    const Real s = symmetric_viscous ? 1.0 : 0.0;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        df1[i][j] = viscosity * theta * (gdu[i][j] + s * gdu[j][i]);
+        if (supg)
+          df1[i][j] +=
+              l.tau.m * (l.c[j] * dr[i] + (newton ? du[j] * r[i] : 0.0)) + dtm * l.c[j] * r[i];
+      }
+      df1[i][i] += density * (l.tau.c * ddiv + dtc * div) - du[3];
+    }
+    df0[3] = ddiv;
+    for (int j = 0; j < 3; ++j) df1[3][j] = (l.tau.m * dr[j] + dtm * r[j]) / density;
+  }
+};
+
+// Prescribed traction h (force per area, at t_{n+theta}) on boundary faces: r_a -= int N_a h.
+// Auxiliary nodal data on the faces: [h_x, h_y, h_z]. A do-nothing outflow is no face term at all.
+struct FluidTractionPhysics {
+  static constexpr int n_components = 4, n_aux = 3;
+  KOKKOS_INLINE_FUNCTION void residual(const Real aux[3], const Real[4], Real f0[4]) const {
+    for (int i = 0; i < 3; ++i) f0[i] = -aux[i];
+    f0[3] = 0;
+  }
+  KOKKOS_INLINE_FUNCTION void tangent(const Real[3], const Real[4], const Real[4],
+                                      Real df0[4]) const {
+    for (int i = 0; i < 4; ++i) df0[i] = 0;
+  }
+};
+
+}  // namespace biofsi

@@ -1,0 +1,204 @@
+// src/fluid: the incompressible fluid field (paper eqs. 2-5) on fixed and on prescribed moving
+// meshes — boundary conditions, one-step-theta or steady solves by Newton-Krylov with a
+// monolithic systems-AMG or a SIMPLE-type block preconditioner, and the consistent boundary
+// traction and wall shear stress that the growth model (sigma in eq. 11) and FSI read.
+// What it may include: kernels/core, kernels/fluid, src/mesh, src/solvers. It knows nothing of
+// scene files (src/io) or the driver (src/app); those, and the FSI coupling, depend on it.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kernels/core/face.hpp"
+#include "kernels/fluid/pointwise.hpp"
+#include "mesh/mesh.hpp"
+#include "solvers/solvers.hpp"
+
+namespace biofsi {
+
+// A value at a point and time (boundary data, initial conditions).
+using FluidFunction = std::function<double(const Point& x, double t)>;
+using FluidVectorFunction = std::function<Point(const Point& x, double t)>;
+
+enum class FluidBcKind {
+  Velocity,  // prescribed velocity components on the set's nodes (no-slip: all zero)
+  Slip,      // zero normal velocity on a wall whose normal is a coordinate axis
+  Traction,  // prescribed traction sigma.n_out on the set's faces
+  Pressure,  // prescribed pressure on the set's nodes
+  DoNothing  // natural outflow: nothing is added (documents the choice)
+};
+
+struct FluidBoundaryCondition {
+  std::string set;
+  FluidBcKind kind = FluidBcKind::Velocity;
+  std::array<FluidFunction, 3> value;  // velocity or traction components; [0]: pressure
+  std::array<bool, 3> components = {true, true, true};  // Velocity: which components are fixed
+};
+
+FluidBoundaryCondition fluid_no_slip(const std::string& set);
+FluidBoundaryCondition fluid_velocity(const std::string& set, FluidFunction ux, FluidFunction uy,
+                                      FluidFunction uz);
+FluidBoundaryCondition fluid_slip(const std::string& set);
+FluidBoundaryCondition fluid_traction(const std::string& set, FluidFunction hx, FluidFunction hy,
+                                      FluidFunction hz);
+FluidBoundaryCondition fluid_pressure(const std::string& set, FluidFunction p);
+FluidBoundaryCondition fluid_do_nothing(const std::string& set);
+
+enum class FluidPreconditioner {
+  MonolithicAmg,  // BoomerAMG, 4 functions per node with nodal coarsening, on the whole Jacobian
+  Simple,         // SIMPLE: AMG on the velocity block and on C - B diag(A)^-1 G
+  SimpleC         // SIMPLEC: the same with absolute row sums of A for diag(A)
+};
+
+struct FluidSettings {
+  double density = 1.0;
+  double viscosity = 1e-3;  // dynamic
+  double theta = 0.66;
+  bool supg = true, grad_div = true;
+  bool symmetric_viscous = true;  // false: grad u form (benchmark do-nothing outflow)
+  FluidLinearisation linearisation = FluidLinearisation::Full;
+  bool pseudo_2d = false;           // w = 0 at every node
+  std::vector<std::string> blocks;  // blocks that hold fluid (empty: all); other nodes are fixed
+  // SIMPLE by measurement (bench/README.md, tests/fluid): monolithic systems AMG stagnates on
+  // finer meshes of the stabilised saddle-point Jacobian.
+  FluidPreconditioner preconditioner = FluidPreconditioner::Simple;
+  Scatter scatter = Scatter::Colored;
+  NewtonOptions newton_options = default_newton();
+  // A time step whose Newton solve fails is retried as 2, 4, ... 2^max_step_cuts sub-steps.
+  int max_step_cuts = 6;
+  // A steady solve whose Newton fails falls back to pseudo-transient continuation.
+  int pseudo_transient_steps = 100;
+  double pseudo_dt0 = 1.0;
+
+  static NewtonOptions default_newton() {
+    NewtonOptions o;
+    o.rel_tol = 1e-10;
+    o.abs_tol = 1e-12;
+    o.max_iterations = 30;
+    o.krylov.max_iterations = 400;
+    o.krylov.restart = 100;
+    return o;
+  }
+};
+
+// Consistent traction on a named face set: the nodal reaction of the fluid's residual.
+struct BoundaryTraction {
+  std::vector<int> nodes;       // the set's nodes (sorted)
+  std::vector<Point> force;     // force of the fluid on the wall at each node [force]
+  std::vector<double> area;     // lumped area int_set N_a dA
+  std::vector<Point> normal;    // unit, area-weighted, out of the face set's elements
+  std::vector<Point> traction;  // force / area [force/area]
+  std::vector<Point> shear;     // tangential part of the traction (wall shear stress vector)
+  Point total{0, 0, 0};         // sum of the nodal forces
+};
+
+struct FluidStats {
+  int steps = 0, newton_iterations = 0, krylov_iterations = 0, preconditioner_setups = 0;
+  int cut_steps = 0, pseudo_steps = 0;
+  double seconds_residual = 0, seconds_tangent = 0, seconds_assembly = 0,
+         seconds_preconditioner_setup = 0, seconds_solve = 0;
+};
+
+class SimplePreconditioner;
+
+class FluidField {
+ public:
+  FluidField(const Mesh& mesh, const FluidSettings& settings,
+             std::vector<FluidBoundaryCondition> conditions);
+  ~FluidField();
+  FluidField(const FluidField&) = delete;
+  FluidField& operator=(const FluidField&) = delete;
+
+  void set_initial(const FluidVectorFunction& velocity, const FluidFunction& pressure, double t0);
+  // Nodal state, 4 values per node (u, v, w, p).
+  void set_solution(const std::vector<double>& state);
+  void set_body_force(const FluidVectorFunction& b);
+  // Nodal grid velocity u_grid (zero until set).
+  void set_grid_velocity(const std::vector<Point>& ug);
+  // The mesh has moved (ALE) over the coming step of length dt: takes the new coordinates and sets
+  // the grid velocity (x_new - x_old)/dt. dt <= 0 takes the coordinates only.
+  void update_coordinates(const Mesh& moved, double dt);
+
+  // One-step-theta step from t to t + dt; throws SolveError("fluid", label, why) if Newton fails
+  // (after step cutting) or the state is not finite; the state is then the last valid one.
+  NewtonResult step(double dt, const std::string& label);
+  NewtonResult solve_steady(const std::string& label);
+
+  double time() const { return time_; }
+  void set_time(double t) { time_ = t; }
+  ConstVector solution() const { return state_; }
+  std::vector<double> solution_host() const;
+  std::vector<Point> velocity() const;
+  std::vector<double> pressure() const;
+  // (u, v, w, p) interpolated at a point (host search; throws if the point is in no element).
+  std::array<double, 4> probe(const Point& x) const;
+
+  BoundaryTraction boundary_traction(const std::string& face_set) const;
+  // Wall shear stress vector at the nodes of a face set (order of mesh().node_sets.at(set)).
+  std::vector<Point> wall_shear_stress(const std::string& face_set) const;
+  // Total force of the fluid on the walls of a face set.
+  Point force(const std::string& face_set) const { return boundary_traction(face_set).total; }
+
+  const FluidStats& stats() const { return stats_; }
+  const Mesh& mesh() const { return mesh_; }
+  const FluidSettings& settings() const { return settings_; }
+  int n_dofs() const { return 4 * mesh_.n_nodes(); }
+
+  // Verification access: set up the physics of a step (inv_dt = 0: steady) without solving; the
+  // residual and tangent with constraints, and the assembled (constraint-eliminated) Jacobian.
+  void prepare(double inv_dt, double theta);
+  void residual(ConstVector u, Vector r) const;
+  void apply_tangent(ConstVector u, ConstVector du, Vector y) const;
+  void diagonal(ConstVector u, Vector d) const;
+  const CsrMatrix& assemble_jacobian(ConstVector u);
+
+ private:
+  struct FixedDof {
+    int dof;
+    const FluidFunction* value;  // nullptr: zero
+  };
+  struct FaceTerm {
+    std::string set;
+    std::array<FluidFunction, 3> value;
+    FaceView faces;
+    NodalView aux;
+    FaceOperator<FluidTractionPhysics> op;
+  };
+
+  NewtonResult advance(const std::string& label);
+  NewtonResult step_once(double dt, double theta, const std::string& label);
+  NewtonResult steady_newton(const std::string& label);
+  void impose_dirichlet(double t);
+  void update_face_data(double t_eval);
+  void update_body_force(double t_eval);
+  void setup_preconditioner(ConstVector u);
+  void precondition(ConstVector r, Vector z) const;
+  void save_old_state();
+  int axis_normal_of(const std::string& set) const;
+
+  Mesh mesh_;
+  FluidSettings settings_;
+  std::vector<FluidBoundaryCondition> conditions_;
+  DeviceMesh dmesh_;
+  std::vector<int> elements_;
+  ElementGroups groups_;
+  NodalView aux_;  // [u_n, u_grid, b]
+  FluidVectorFunction body_force_;
+  ElementOperator<FluidPhysics> op_;
+  std::vector<FaceTerm> faces_;
+  std::vector<FixedDof> fixed_list_;
+  Kokkos::View<char*, MemSpace> fixed_;
+  IndexView fixed_dofs_;
+  Vector fixed_values_;
+  Vector state_, state_old_, scratch_;
+  CsrMatrix matrix_;
+  std::unique_ptr<BoomerAmg> amg_;
+  std::unique_ptr<SimplePreconditioner> simple_;
+  double time_ = 0;
+  FluidStats stats_;
+};
+
+}  // namespace biofsi

@@ -1,0 +1,680 @@
+#include "structure/structure.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "kernels/core/constraints.hpp"
+
+namespace biofsi {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class ScopedTimer {
+ public:
+  explicit ScopedTimer(double& seconds) : seconds_(seconds), start_(Clock::now()) {}
+  ~ScopedTimer() {
+    Kokkos::fence();
+    seconds_ += std::chrono::duration<double>(Clock::now() - start_).count();
+  }
+
+ private:
+  double& seconds_;
+  Clock::time_point start_;
+};
+
+FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
+  FaceView d("biofsi::structure_faces", faces.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < faces.size(); ++i) {
+    h(i, 0) = faces[i].element;
+    h(i, 1) = faces[i].local_face;
+  }
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+std::vector<double> to_host_vector(ConstVector d) {
+  auto h = Kokkos::create_mirror_view(d);
+  Kokkos::deep_copy(h, d);
+  return std::vector<double>(h.data(), h.data() + h.extent(0));
+}
+
+void copy_to_device(const std::vector<double>& v, Vector d) {
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
+  Kokkos::deep_copy(d, h);
+}
+
+// aux(:, first + c) = v(3 n + c)
+void set_aux_vector(NodalView aux, int first, ConstVector v) {
+  Kokkos::parallel_for(
+      "biofsi::structure_aux", Kokkos::RangePolicy<ExecSpace>(0, aux.extent(0)),
+      KOKKOS_LAMBDA(int n) {
+        for (int c = 0; c < 3; ++c) aux(n, first + c) = v(3 * n + c);
+      });
+}
+
+StructureMaterials device_materials(const std::vector<StructureMaterial>& m) {
+  StructureMaterials out;
+  for (size_t b = 0; b < m.size(); ++b) {
+    out.model[b] = m[b].model;
+    out.lambda[b] = m[b].lambda;
+    out.mu[b] = m[b].mu;
+    out.density[b] = m[b].density;
+    for (int c = 0; c < 3; ++c) out.gravity[b][c] = m[b].gravity[c];
+  }
+  return out;
+}
+
+AmgOptions amg_options(StructureAmg variant, const Mesh& mesh) {
+  AmgOptions o;
+  if (variant == StructureAmg::Scalar) return o;
+  o.num_functions = 3;
+  o.nodal_coarsening = true;
+  if (variant == StructureAmg::SystemsRigidBody) {
+    // The three infinitesimal rotations about the centroid (the translations are what the nodal
+    // interpolation reproduces anyway); centring keeps them well scaled against the translations.
+    Point c{0, 0, 0};
+    for (const auto& p : mesh.x)
+      for (int d = 0; d < 3; ++d) c[d] += p[d] / mesh.n_nodes();
+    const int n = 3 * mesh.n_nodes();
+    o.interpolation_vectors.assign(3, std::vector<Real>(n, 0.0));
+    for (int i = 0; i < mesh.n_nodes(); ++i) {
+      const double x = mesh.x[i][0] - c[0], y = mesh.x[i][1] - c[1], z = mesh.x[i][2] - c[2];
+      auto& rz = o.interpolation_vectors[0];
+      auto& rx = o.interpolation_vectors[1];
+      auto& ry = o.interpolation_vectors[2];
+      rz[3 * i] = -y, rz[3 * i + 1] = x;
+      rx[3 * i + 1] = -z, rx[3 * i + 2] = y;
+      ry[3 * i] = z, ry[3 * i + 2] = -x;
+    }
+  }
+  return o;
+}
+
+}  // namespace
+
+StructureMaterial StructureMaterial::from_young(StructureModel model, double youngs_modulus,
+                                                double poisson_ratio, double density) {
+  if (!(youngs_modulus > 0) || !(poisson_ratio > -1 && poisson_ratio < 0.5))
+    throw std::invalid_argument("structure material: need E > 0 and -1 < nu < 0.5");
+  StructureMaterial m;
+  m.model = model;
+  const double e = youngs_modulus, nu = poisson_ratio;
+  m.lambda = e * nu / ((1 + nu) * (1 - 2 * nu));
+  m.mu = e / (2 * (1 + nu));
+  m.density = density;
+  return m;
+}
+
+struct StructureField::FaceTerm {
+  StructureTraction bc;
+  FaceView faces;
+  NodalView aux;
+  FaceOperator<DeadLoadTraction> op;
+};
+
+StructureField::StructureField(const Mesh& mesh, const StructureSettings& settings,
+                               std::vector<StructureDirichlet> dirichlet,
+                               std::vector<StructureTraction> tractions)
+    : mesh_(mesh),
+      settings_(settings),
+      dmesh_(to_device(mesh)),
+      all_elements_(mesh.n_elements()),
+      aux_("biofsi::structure_aux", mesh.n_nodes(), StructurePhysics::n_aux),
+      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, StructurePhysics{}) {
+  const int nb = static_cast<int>(mesh.block_names.size());
+  if (nb > max_structure_blocks)
+    throw std::invalid_argument("structure: at most " + std::to_string(max_structure_blocks) +
+                                " blocks");
+  if (static_cast<int>(settings.materials.size()) != nb)
+    throw std::invalid_argument("structure: " + std::to_string(settings.materials.size()) +
+                                " materials given for " + std::to_string(nb) + " mesh blocks");
+  for (const auto& m : settings.materials)
+    if (!(m.mu > 0) || !(m.lambda + 2.0 * m.mu / 3.0 > 0) || !(m.density >= 0))
+      throw std::invalid_argument("structure: a material needs mu > 0, bulk modulus > 0, rho >= 0");
+  if (!settings.quasi_static && !(settings.theta >= 0.5 && settings.theta <= 1))
+    throw std::invalid_argument("structure: theta must lie in [0.5, 1]");
+  for (int e = 0; e < mesh.n_elements(); ++e) all_elements_[e] = e;
+  {
+    Point lo = mesh.x.empty() ? Point{0, 0, 0} : mesh.x[0], hi = lo;
+    for (const auto& p : mesh.x)
+      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+    element_size_ = std::cbrt((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) /
+                              std::max(1, mesh.n_elements()));
+  }
+  groups_ = make_element_groups(mesh_, all_elements_, settings_.scatter);
+  const int n = n_dofs();
+  d_ = Vector("biofsi::structure_d", n);
+  v_ = Vector("biofsi::structure_v", n);
+  u_ = Vector("biofsi::structure_u", n);
+  scratch_ = Vector("biofsi::structure_scratch", n);
+  matrix_ = make_sparsity(mesh_, all_elements_, 3);
+  amg_ = std::make_unique<BoomerAmg>(amg_options(settings_.amg, mesh_));
+
+  std::map<int, SpaceTimeFunction> by_dof;
+  for (const auto& bc : dirichlet) {
+    if (!mesh_.node_sets.count(bc.set))
+      throw std::invalid_argument("structure Dirichlet condition on unknown node set '" + bc.set +
+                                  "'");
+    for (int node : mesh_.node_sets.at(bc.set))
+      for (int c = 0; c < 3; ++c)
+        if (bc.value[c]) by_dof[3 * node + c] = bc.value[c];
+  }
+  if (settings_.plane_strain)
+    for (int node = 0; node < mesh_.n_nodes(); ++node)
+      by_dof[3 * node + 2] = [](const Point&, double) { return 0.0; };
+  Constraints fixed;
+  for (const auto& [dof, f] : by_dof) {
+    dirichlet_.emplace_back(dof, f);
+    fixed.add(dof, 0.0);
+  }
+  fixed_dofs_ = fixed.dofs();
+  fixed_values_ = fixed.values();
+  fixed_ = fixed.mask(n);
+
+  for (auto& t : tractions) {
+    if (!mesh_.face_sets.count(t.set))
+      throw std::invalid_argument("structure traction on unknown face set '" + t.set + "'");
+    FaceView faces = faces_to_device(mesh_.face_sets.at(t.set));
+    NodalView aux("biofsi::traction_aux", mesh_.n_nodes(), 3);
+    faces_.push_back(FaceTerm{
+        t, faces, aux,
+        FaceOperator<DeadLoadTraction>(faces, dmesh_.conn, dmesh_.x, aux, DeadLoadTraction{})});
+  }
+}
+
+StructureField::~StructureField() = default;
+
+void StructureField::set_body_force(std::array<SpaceTimeFunction, 3> b) { body_force_ = b; }
+
+void StructureField::set_state(const std::vector<Point>& d, const std::vector<Point>& v,
+                               double t0) {
+  const int nn = mesh_.n_nodes();
+  if ((!d.empty() && static_cast<int>(d.size()) != nn) ||
+      (!v.empty() && static_cast<int>(v.size()) != nn))
+    throw std::invalid_argument("structure state has the wrong size");
+  std::vector<double> dh(3 * nn, 0.0), vh(3 * nn, 0.0);
+  for (int i = 0; i < nn; ++i)
+    for (int c = 0; c < 3; ++c) {
+      if (!d.empty()) dh[3 * i + c] = d[i][c];
+      if (!v.empty()) vh[3 * i + c] = v[i][c];
+    }
+  copy_to_device(dh, d_);
+  copy_to_device(vh, v_);
+  time_ = t0;
+}
+
+std::vector<Point> StructureField::displacement() const {
+  const auto h = to_host_vector(d_);
+  std::vector<Point> out(mesh_.n_nodes());
+  for (int i = 0; i < mesh_.n_nodes(); ++i) out[i] = {h[3 * i], h[3 * i + 1], h[3 * i + 2]};
+  return out;
+}
+
+std::vector<Point> StructureField::velocity() const {
+  const auto h = to_host_vector(v_);
+  std::vector<Point> out(mesh_.n_nodes());
+  for (int i = 0; i < mesh_.n_nodes(); ++i) out[i] = {h[3 * i], h[3 * i + 1], h[3 * i + 2]};
+  return out;
+}
+
+// The state of the step t_n -> t_n + dt: aux = [d_n, v_n, b(t_{n+theta})], the physics'
+// coefficients, the tractions theta t_{n+1} + (1 - theta) t_n, and the prescribed increments
+// g(t_{n+1}) - d_n of the constrained dofs.
+void StructureField::set_step_data(double dt) {
+  const bool qs = settings_.quasi_static;
+  const double theta = qs ? 1.0 : settings_.theta;
+  const double t1 = time_ + dt;
+  step_dt_ = dt;
+  StructurePhysics p;
+  p.materials = device_materials(settings_.materials);
+  p.theta = theta;
+  p.dt = qs ? 0.0 : dt;
+  p.mass_coefficient = qs ? 0.0 : 1.0 / (theta * dt * dt);
+  op_.set_physics(p);
+  set_aux_vector(aux_, 0, d_);
+  set_aux_vector(aux_, 3, v_);
+  const int nn = mesh_.n_nodes();
+  {
+    auto h = Kokkos::create_mirror_view(aux_);
+    Kokkos::deep_copy(h, aux_);
+    for (int i = 0; i < nn; ++i)
+      for (int c = 0; c < 3; ++c) {
+        double b = 0;
+        if (body_force_[c])
+          b = theta * body_force_[c](mesh_.x[i], t1) +
+              (theta < 1 ? (1 - theta) * body_force_[c](mesh_.x[i], time_) : 0.0);
+        h(i, 6 + c) = b;
+      }
+    Kokkos::deep_copy(aux_, h);
+  }
+  for (auto& f : faces_) {
+    auto h = Kokkos::create_mirror_view(f.aux);
+    for (int node : mesh_.node_sets.at(f.bc.set))
+      for (int c = 0; c < 3; ++c) {
+        double t = 0;
+        if (f.bc.traction[c])
+          t = theta * f.bc.traction[c](mesh_.x[node], t1) +
+              (theta < 1 ? (1 - theta) * f.bc.traction[c](mesh_.x[node], time_) : 0.0);
+        h(node, c) = t;
+      }
+    Kokkos::deep_copy(f.aux, h);
+  }
+  const auto dn = to_host_vector(d_);
+  auto gh = Kokkos::create_mirror_view(fixed_values_);
+  for (size_t i = 0; i < dirichlet_.size(); ++i) {
+    const int dof = dirichlet_[i].first;
+    gh(i) = dirichlet_[i].second(mesh_.x[dof / 3], t1) - dn[dof];
+  }
+  Kokkos::deep_copy(fixed_values_, gh);
+}
+
+void StructureField::prepare_step(double dt) {
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw SolveError("structure", "prepare", "time step must be positive and finite");
+  set_step_data(dt);
+}
+
+void StructureField::residual(ConstVector u, Vector r) const {
+  fill(r, 0);
+  op_.residual(groups_, u, r);
+  for (const auto& f : faces_) f.op.residual(u, r);
+  constrained_residual(fixed_dofs_, fixed_values_, u, r);
+}
+
+void StructureField::apply_tangent(ConstVector u, ConstVector du, Vector y) const {
+  copy(du, scratch_);
+  zero_constrained(fixed_dofs_, scratch_);
+  fill(y, 0);
+  op_.apply_tangent(groups_, u, scratch_, y);
+  copy_constrained(fixed_dofs_, du, y);
+}
+
+void StructureField::diagonal(ConstVector u, Vector d) const {
+  fill(d, 0);
+  op_.diagonal(groups_, u, d);
+  // Constrained rows of the tangent are identity rows.
+  Vector ones("biofsi::ones", fixed_dofs_.extent(0));
+  fill(ones, 1.0);
+  set_constrained(fixed_dofs_, ones, d);
+}
+
+void StructureField::assemble(ConstVector u, bool constrained) {
+  fill(matrix_.val, 0);
+  op_.assemble(groups_, u, matrix_);
+  if (constrained) csr_eliminate_constrained(matrix_, fixed_);
+}
+
+void StructureField::setup_preconditioner(ConstVector u) {
+  {
+    ScopedTimer t(stats_.seconds_assembly);
+    assemble(u, true);
+  }
+  ScopedTimer t(stats_.seconds_amg_setup);
+  amg_->setup(matrix_);
+  ++stats_.amg_setups;
+}
+
+double StructureField::kinetic_energy() const {
+  StructureEnergyIntegrand e;
+  e.materials = device_materials(settings_.materials);
+  e.kinetic = true;
+  NodalView aux("biofsi::energy_aux", mesh_.n_nodes(), 6);
+  set_aux_vector(aux, 0, d_);
+  set_aux_vector(aux, 3, v_);
+  ElementOperator<StructureEnergyIntegrand> op(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux, e);
+  Vector r("biofsi::energy", mesh_.n_nodes()), unused("biofsi::energy_u", mesh_.n_nodes());
+  op.residual(groups_, unused, r);
+  double s = 0;
+  for (double x : to_host_vector(r)) s += x;
+  return s;
+}
+
+double StructureField::strain_energy() const {
+  StructureEnergyIntegrand e;
+  e.materials = device_materials(settings_.materials);
+  e.kinetic = false;
+  NodalView aux("biofsi::energy_aux", mesh_.n_nodes(), 6);
+  set_aux_vector(aux, 0, d_);
+  set_aux_vector(aux, 3, v_);
+  ElementOperator<StructureEnergyIntegrand> op(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux, e);
+  Vector r("biofsi::energy", mesh_.n_nodes()), unused("biofsi::energy_u", mesh_.n_nodes());
+  op.residual(groups_, unused, r);
+  double s = 0;
+  for (double x : to_host_vector(r)) s += x;
+  return s;
+}
+
+std::vector<std::array<double, 6>> StructureField::cauchy_stress() const {
+  // At the element centre (xi = 0), where the trilinear gradients are those of the element's
+  // mean: one value per element for output, from the same constitutive functions as the kernels.
+  const auto d = to_host_vector(d_);
+  const StructureMaterials mats = device_materials(settings_.materials);
+  constexpr double ref[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  std::vector<std::array<double, 6>> out(mesh_.n_elements());
+  for (int e = 0; e < mesh_.n_elements(); ++e) {
+    Real jac[3][3] = {}, gref[3][3] = {};
+    for (int a = 0; a < 8; ++a) {
+      const int node = mesh_.conn[e][a];
+      for (int k = 0; k < 3; ++k) {
+        const double dn = 0.125 * ref[a][k];  // dN_a/dxi_k at xi = 0
+        for (int c = 0; c < 3; ++c) {
+          jac[c][k] += mesh_.x[node][c] * dn;
+          gref[c][k] += d[3 * node + c] * dn;
+        }
+      }
+    }
+    Real inv[3][3];
+    invert_jacobian(jac, inv);
+    Real g[3][3], sigma[3][3];
+    for (int c = 0; c < 3; ++c) physical_gradient(inv, gref[c], g[c]);
+    const int b = mesh_.element_block[e];
+    biofsi::cauchy_stress(MaterialPoint{mats.model[b], mats.lambda[b], mats.mu[b]}, g, sigma);
+    out[e] = {sigma[0][0], sigma[1][1], sigma[2][2], sigma[0][1], sigma[1][2], sigma[2][0]};
+  }
+  return out;
+}
+
+std::vector<double> StructureField::von_mises_stress() const {
+  const auto s = cauchy_stress();
+  std::vector<double> out(s.size());
+  for (size_t e = 0; e < s.size(); ++e) {
+    const Real m[3][3] = {
+        {s[e][0], s[e][3], s[e][5]}, {s[e][3], s[e][1], s[e][4]}, {s[e][5], s[e][4], s[e][2]}};
+    out[e] = von_mises(m);
+  }
+  return out;
+}
+
+// Brings the prescribed increments in through one linearised solve instead of setting them on
+// the constrained dofs alone: J_ff(u) delta = -(r_f(u) + J_fc w_c) with w_c = g_c - u_c, then
+// u += w + delta. Setting them alone would concentrate the whole boundary motion in the first layer
+// of elements, which on a fine mesh inverts them (Neo-Hooke then has no finite residual there) or
+// sends Newton to another branch; the lifted state is the tangent response of the whole body.
+void StructureField::predict_dirichlet(const std::string& label) {
+  const int n = n_dofs();
+  Vector w("biofsi::structure_lift", n);
+  {
+    auto dofs = fixed_dofs_;
+    auto g = fixed_values_;
+    auto u = u_;
+    Kokkos::parallel_for(
+        "biofsi::structure_lift", Kokkos::RangePolicy<ExecSpace>(0, dofs.extent(0)),
+        KOKKOS_LAMBDA(int i) { w(dofs(i)) = g(i) - u(dofs(i)); });
+  }
+  if (norm2(w) == 0) return;
+  Vector rhs("biofsi::structure_lift_rhs", n), delta("biofsi::structure_lift_delta", n);
+  op_.residual(groups_, u_, rhs);
+  for (const auto& f : faces_) f.op.residual(u_, rhs);
+  op_.apply_tangent(groups_, u_, w, rhs);
+  scale(-1.0, rhs);
+  zero_constrained(fixed_dofs_, rhs);
+  setup_preconditioner(u_);
+  KrylovOptions k = settings_.newton.krylov;
+  k.rel_tol = 1e-6;  // a predictor: Newton corrects what is left
+  const ApplyFn apply = [this](ConstVector x, Vector y) { apply_tangent(u_, x, y); };
+  const KrylovResult kr = settings_.use_cg ? cg(apply, amg_->as_function(), rhs, delta, k)
+                                           : fgmres(apply, amg_->as_function(), rhs, delta, k);
+  stats_.krylov_iterations += kr.iterations;
+  if (!std::isfinite(kr.final_residual) || !all_finite(delta))
+    throw SolveError("structure", label, "the Dirichlet predictor produced non-finite values");
+  axpy(1.0, w, u_);
+  axpy(1.0, delta, u_);
+  set_constrained(fixed_dofs_, fixed_values_, u_);
+}
+
+// The residual is a sum of terms (inertia, theta-weighted stresses, loads) each of size ~|A_ii|
+// times the displacements, which cancel at the solution; their round-off (~eps times their size)
+// is a floor below which no Newton iteration can reduce ||r||. A relative tolerance on a small
+// first residual (a step that starts close to its solution) could otherwise never be met.
+double StructureField::roundoff_floor() const {
+  // The diagonal of the last assembled tangent (zero before the first assembly: no floor then).
+  Vector diag("biofsi::structure_floor_diag", n_dofs());
+  csr_diagonal(matrix_, diag);
+  auto d = d_;
+  auto u = u_;
+  // St. Venant-Kirchhoff forms its strain from grad d without cancellation, so its round-off is
+  // relative to the displacements. Neo-Hooke's stress is an O(1) expression whose small-strain
+  // value cancels: its round-off is eps times the modulus, i.e. eps |A_ii| times a length.
+  bool neo_hooke = false;
+  for (const auto& m : settings_.materials) neo_hooke = neo_hooke || m.model == NeoHooke;
+  const double length = neo_hooke ? element_size_ : 0.0;
+  double s = 0;
+  Kokkos::parallel_reduce(
+      "biofsi::structure_floor", Kokkos::RangePolicy<ExecSpace>(0, diag.extent(0)),
+      KOKKOS_LAMBDA(int i, double& acc) {
+        const double t = diag(i) * (math::fabs(d(i)) + math::fabs(u(i)) + length);
+        acc += t * t;
+      },
+      s);
+  // 1e4 eps: the nodal sums of ~80 element contributions with cancelling signs (measured on the
+  // CSM1 flag: Newton stagnates at ~1e-12 where 100 eps |A_ii d| was 1e-14).
+  return 1e4 * std::numeric_limits<double>::epsilon() * std::sqrt(s);
+}
+
+// Newton with a line search on the directional derivative G(s) = du . r(u + s du) instead of the
+// residual norm (src/solvers' newton_solve): for slender or soft bodies under large rotations the
+// stiff membrane and thickness directions dominate ||r||, so backtracking on it accepts steps of
+// ~1e-3 and stalls (measured on Cook's membrane and a soft cantilever), while G, the derivative
+// of the potential energy along du for these conservative problems, changes sign where the energy
+// is least along the step. s = 1 is kept when |G(1)| <= 0.8 |G(0)| or ||r|| fell; otherwise
+// regula falsi on G for up to max_backtracks trials (s in [0.05, 1]), keeping the best trial.
+// Inexact solves use Eisenstat-Walker forcing as newton_solve does.
+NewtonResult StructureField::newton(const NewtonSystem& sys, const NewtonOptions& opt) {
+  NewtonResult res;
+  const int n = n_dofs();
+  Vector r("biofsi::snewton_r", n), du("biofsi::snewton_du", n), rhs("biofsi::snewton_rhs", n);
+  Vector trial("biofsi::snewton_trial", n), r_trial("biofsi::snewton_rt", n);
+  Vector best("biofsi::snewton_best", n), r_best("biofsi::snewton_rbest", n);
+  sys.residual(u_, r);
+  double r_norm = norm2(r);
+  res.residual_history.push_back(r_norm);
+  if (!std::isfinite(r_norm)) {
+    res.reason = "NaN";
+    return res;
+  }
+  const double tol = std::max(opt.abs_tol, opt.rel_tol * r_norm);
+  const ApplyFn jacobian = [&](ConstVector x, Vector y) { sys.tangent(u_, x, y); };
+  double r_prev = r_norm, eta = opt.eta_max;
+  while (true) {
+    // The round-off floor grows with the solution, so it is re-evaluated at every iterate.
+    if (r_norm <= tol || (res.iterations > 0 && r_norm <= roundoff_floor())) {
+      res.converged = true;
+      res.reason = "converged";
+      break;
+    }
+    if (res.iterations >= opt.max_iterations) {
+      res.reason = "max iterations";
+      break;
+    }
+    if (res.iterations > 0) {
+      double e = opt.gamma * std::pow(r_norm / r_prev, opt.alpha);
+      const double from_prev = opt.gamma * std::pow(eta, opt.alpha);
+      if (from_prev > 0.1) e = std::max(e, from_prev);
+      eta = e;
+    }
+    eta = std::max(std::min(eta, opt.eta_max), 0.5 * tol / r_norm);
+    eta = std::max(std::min(eta, opt.eta_max), opt.eta_min);
+    sys.setup_preconditioner(u_);
+    KrylovOptions k = opt.krylov;
+    k.rel_tol = eta;
+    axpby(-1.0, r, 0.0, rhs);
+    fill(du, 0.0);
+    const KrylovResult lin = sys.symmetric ? cg(jacobian, sys.precondition, rhs, du, k)
+                                           : fgmres(jacobian, sys.precondition, rhs, du, k);
+    res.krylov_iterations += lin.iterations;
+    if (lin.reason == "NaN" || !std::isfinite(lin.final_residual) || !all_finite(du)) {
+      res.reason = "NaN";
+      break;
+    }
+    if (!(lin.final_residual < lin.initial_residual)) {
+      res.reason = "linear solver";
+      break;
+    }
+    const double g0 = dot(du, r);  // < 0 for a descent direction of the energy
+    double lo = 0, g_lo = g0, hi = 1, s = 1, best_norm = std::numeric_limits<double>::infinity();
+    // An indefinite tangent (compressed fibres, buckling) can give a direction along which the
+    // energy rises (G(0) >= 0): then plain halving on ||r||, as newton_solve does.
+    const bool descent = g0 < 0;
+    for (int trial_no = 0; trial_no <= opt.max_backtracks && (!descent || trial_no < 8);
+         ++trial_no) {
+      if (!descent) {
+        copy(u_, trial);
+        axpy(s, du, trial);
+        sys.residual(trial, r_trial);
+        const double rn = norm2(r_trial);
+        if (std::isfinite(rn) && rn < best_norm) {
+          best_norm = rn;
+          copy(trial, best);
+          copy(r_trial, r_best);
+        }
+        if (std::isfinite(rn) && rn < (1 - 1e-4 * s) * r_norm) break;
+        s *= 0.5;
+        continue;
+      }
+      copy(u_, trial);
+      axpy(s, du, trial);
+      sys.residual(trial, r_trial);
+      const double rn = norm2(r_trial);
+      const double g =
+          std::isfinite(rn) ? dot(du, r_trial) : std::numeric_limits<double>::quiet_NaN();
+      if (std::isfinite(rn) && rn < best_norm) {
+        best_norm = rn;
+        copy(trial, best);
+        copy(r_trial, r_best);
+      }
+      if (std::isfinite(g) && (std::abs(g) <= 0.8 * std::abs(g0) || (trial_no == 0 && rn < r_norm)))
+        break;
+      if (!std::isfinite(g) || g > 0) {
+        hi = s;
+        // Regula falsi between the last point with G < 0 and this one (bisection after a NaN).
+        s = std::isfinite(g) ? lo + (s - lo) * (-g_lo) / (g - g_lo) : 0.5 * (lo + s);
+      } else {
+        lo = s, g_lo = g;
+        s = 0.5 * (s + hi);
+        if (hi == s) break;
+      }
+      s = std::min(std::max(s, 0.05), 1.0);
+    }
+    if (!std::isfinite(best_norm)) {
+      res.reason = "line search failed";
+      break;
+    }
+    copy(best, u_);
+    copy(r_best, r);
+    r_prev = r_norm;
+    r_norm = best_norm;
+    ++res.iterations;
+    res.residual_history.push_back(r_norm);
+  }
+  return res;
+}
+
+NewtonResult StructureField::step_once(double dt, const std::string& label) {
+  set_step_data(dt);
+  // Predictor: constant velocity (dynamics) or no increment (quasi-static), then the prescribed
+  // increments of the constrained dofs.
+  if (settings_.quasi_static)
+    fill(u_, 0);
+  else
+    axpby(dt, v_, 0.0, u_);
+  predict_dirichlet(label);
+
+  NewtonOptions options = settings_.newton;
+  stats_.last_step_krylov.clear();
+  NewtonSystem sys;
+  sys.residual = [this](ConstVector u, Vector r) {
+    ScopedTimer t(stats_.seconds_residual);
+    residual(u, r);
+  };
+  sys.tangent = [this](ConstVector u, ConstVector du, Vector y) {
+    ScopedTimer t(stats_.seconds_tangent);
+    apply_tangent(u, du, y);
+  };
+  // The preconditioner is rebuilt at every Newton iteration: the tangent of a finite-strain
+  // problem changes with the state, and a stale AMG hierarchy costs more Krylov iterations than its
+  // set-up. Counting its applications between set-ups gives the Krylov iterations per Newton
+  // iteration (each Krylov iteration applies it once; CG and FGMRES apply it once more at start
+  // or restart, which the count includes).
+  sys.setup_preconditioner = [this](ConstVector u) {
+    setup_preconditioner(u);
+    stats_.last_step_krylov.push_back(0);
+  };
+  sys.precondition = [this](ConstVector r, Vector z) {
+    amg_->apply(r, z);
+    if (!stats_.last_step_krylov.empty()) ++stats_.last_step_krylov.back();
+  };
+  sys.symmetric = settings_.use_cg;
+  NewtonResult result;
+  {
+    ScopedTimer t(stats_.seconds_solve);
+    result = newton(sys, options);
+  }
+  ++stats_.steps;
+  stats_.newton_iterations += result.iterations;
+  stats_.krylov_iterations += result.krylov_iterations;
+  if (!result.converged || !all_finite(u_)) {
+    std::ostringstream why;
+    why << "Newton " << (result.converged ? "returned a non-finite solution" : result.reason)
+        << " after " << result.iterations << " iterations; residual history:";
+    for (double r : result.residual_history) why << ' ' << r;
+    throw SolveError("structure", label, why.str());
+  }
+  // v_{n+1} = (u/dt - (1 - theta) v_n)/theta; d_{n+1} = d_n + u.
+  if (settings_.quasi_static) {
+    fill(v_, 0);
+  } else {
+    const double theta = settings_.theta;
+    axpby(1.0 / (theta * dt), u_, -(1 - theta) / theta, v_);
+  }
+  axpy(1.0, u_, d_);
+  time_ += dt;
+  return result;
+}
+
+NewtonResult StructureField::step(double dt, const std::string& label) {
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw SolveError("structure", label, "time step must be positive and finite");
+  const double t0 = time_;
+  Vector d0("biofsi::structure_d0", d_.extent(0)), v0("biofsi::structure_v0", v_.extent(0));
+  copy(d_, d0);
+  copy(v_, v0);
+  try {
+    return step_once(dt, label);
+  } catch (const SolveError& first) {
+    // Cut the step: smaller load or time increments keep Newton inside its region of convergence
+    // (large rotations of a soft body, a sudden load).
+    for (int level = 1; level <= settings_.max_step_cuts; ++level) {
+      const int n = 1 << level;
+      copy(d0, d_);
+      copy(v0, v_);
+      time_ = t0;
+      try {
+        NewtonResult r;
+        for (int i = 0; i < n; ++i)
+          r = step_once(dt / n, label + " (sub-step " + std::to_string(i + 1) + "/" +
+                                    std::to_string(n) + ")");
+        ++stats_.cut_steps;
+        return r;
+      } catch (const SolveError&) {
+      }
+    }
+    copy(d0, d_);
+    copy(v0, v_);
+    time_ = t0;
+    throw SolveError("structure", label,
+                     first.why() + "; cutting the step into up to " +
+                         std::to_string(1 << settings_.max_step_cuts) + " sub-steps did not help");
+  }
+}
+
+}  // namespace biofsi

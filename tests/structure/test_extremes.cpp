@@ -1,0 +1,136 @@
+// The structure field at the extremes: nearly incompressible material on plain hex8 (volumetric
+// locking, reported as measured), a very soft cantilever under a load that rotates its tip by
+// ~70 degrees in ten load steps (Newton with line search), and a Newton failure that must stop with
+// the field, the step and the residual history, leaving the state untouched.
+//
+// Tolerances, and why:
+//  * Locking: plane-strain cantilever (L = 10, H = 1, one element thick), end shear traction small
+//    enough for the linear regime; the tip deflection on a coarse mesh (20 x 2) over that on a fine
+//    one (80 x 8). Plain Q1 with full integration locks in bending (shear locking) already at
+//    nu = 0.3 and worse as nu -> 0.5 (volumetric locking): the test asks that the ratio decreases
+//    with nu (a locking-free element would not, but neither would a broken Poisson ratio
+//    conversion that ignored nu) and prints it. No F-bar is offered: the biofilm cases use
+//    nu = 0.3-0.45 (see the report in bench/README.md and the issue), where the 4x refined mesh
+//    is within a few per cent.
+//  * Soft cantilever: E = 1e-3, tip traction giving a bending parameter P L^2/(E I) = 10; the
+//    Euler elastica has vertical tip deflection 0.81 L there (Bisshopp & Drucker 1945). Measured:
+//    Newton from the undeformed state at full load does not converge in one step (neither with
+//    src/solvers' backtracking on ||r|| nor with the field's line search on du . r, nor with 64
+//    automatic sub-steps of 20 iterations each); in 10 load steps it does (one step cut in two by
+//    the field). The test asks for 10 load steps with at most two cut and a deflection within 10%
+//    of the elastica (the Q1 mesh, 40 x 4, locks by ~5% in bending and the beam also shears and
+//    stretches, which the elastica ignores).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "structure/structure_test_support.hpp"
+
+using namespace biofsi;
+using namespace biofsi::test;
+
+namespace {
+
+Mesh cantilever(int nx, int ny) {
+  BoxSpec spec;
+  spec.x0 = 0;
+  spec.x1 = 10;
+  spec.z0 = 0;
+  spec.z1 = 0.5;
+  spec.nx = nx;
+  spec.nz = 1;
+  spec.blocks = {{"beam", 0.0, 1.0, ny, 1.0}};
+  return make_box_mesh(spec);
+}
+
+// Mean vertical displacement of the right end.
+double tip_deflection(const Mesh& mesh, const std::vector<Point>& d) {
+  double s = 0;
+  for (int n : mesh.node_sets.at("right")) s += d[n][1];
+  return s / mesh.node_sets.at("right").size();
+}
+
+double tip_x(const Mesh& mesh, const std::vector<Point>& d) {
+  double s = 0;
+  for (int n : mesh.node_sets.at("right")) s += d[n][0];
+  return s / mesh.node_sets.at("right").size();
+}
+
+double linear_tip(double nu, int nx, int ny) {
+  const Mesh mesh = cantilever(nx, ny);
+  StructureSettings s = tight_structure_settings({material(SaintVenantKirchhoff, 1.0, nu)}, true);
+  s.plane_strain = true;
+  StructureTraction t{"right", {constant(0), constant(-1e-6), constant(0)}};
+  StructureField field(mesh, s, {clamp("left")}, {t});
+  field.step(1.0, "locking nu=" + std::to_string(nu));
+  return tip_deflection(mesh, field.displacement());
+}
+
+}  // namespace
+
+TEST(StructureExtremes, NearlyIncompressibleLockingIsReported) {
+  double previous = 2;
+  for (double nu : {0.3, 0.49, 0.499}) {
+    const double coarse = linear_tip(nu, 20, 2), fine = linear_tip(nu, 80, 8);
+    const double ratio = coarse / fine;
+    std::printf("[ measured ] nu = %.3f: tip 20x2 = %.4e, 80x8 = %.4e, coarse/fine = %.3f\n", nu,
+                coarse, fine, ratio);
+    ASSERT_TRUE(std::isfinite(ratio));
+    EXPECT_GT(ratio, 0.0);
+    EXPECT_LT(ratio, previous);
+    previous = ratio;
+  }
+}
+
+TEST(StructureExtremes, VerySoftCantileverRotatesFarInTenLoadSteps) {
+  const Mesh mesh = cantilever(40, 4);
+  StructureSettings s = tight_structure_settings({material(NeoHooke, 1e-3, 0.3)}, true);
+  s.plane_strain = true;
+  s.newton.max_iterations = 20;
+  // P L^2 / (E' I) = 10 with P = t H (per unit depth), I = H^3/12, E' = E/(1 - nu^2).
+  const double e_eff = 1e-3 / (1 - 0.3 * 0.3), t = 10 * e_eff / (12 * 100.0);
+  StructureTraction load{
+      "right", {constant(0), [t](const Point&, double time) { return -t * time; }, constant(0)}};
+  StructureField field(mesh, s, {clamp("left")}, {load});
+  NewtonResult r;
+  for (int i = 1; i <= 10; ++i)
+    r = field.step(0.1, "soft cantilever load step " + std::to_string(i));
+  const auto d = field.displacement();
+  const double v = -tip_deflection(mesh, d) / 10, u = -tip_x(mesh, d) / 10;
+  std::printf(
+      "[ measured ] soft cantilever (E = 1e-3, PL^2/EI = 10): tip deflection %.3f L (elastica "
+      "0.81 L), shortening %.3f L, Newton %d, Krylov %d\n",
+      v, u, r.iterations, r.krylov_iterations);
+  std::printf("[ measured ] soft cantilever: cut steps %d, Newton iterations in all %d\n",
+              field.stats().cut_steps, field.stats().newton_iterations);
+  EXPECT_NEAR(v, 0.81, 0.081);
+  // Measured: one of the ten steps is cut in two (the line search alone does not carry it).
+  EXPECT_LE(field.stats().cut_steps, 2);
+}
+
+TEST(StructureExtremes, NewtonFailureStopsWithFieldStepAndResidualHistory) {
+  const Mesh mesh = cantilever(20, 2);
+  StructureSettings s = tight_structure_settings({material(NeoHooke, 1e-3, 0.3)}, true);
+  s.plane_strain = true;
+  s.max_step_cuts = 1;
+  s.newton.max_iterations = 2;  // far too few for this load
+  StructureTraction load{"right", {constant(0), constant(-1e-4), constant(0)}};
+  StructureField field(mesh, s, {clamp("left")}, {load});
+  try {
+    field.step(1.0, "load step 7");
+    FAIL() << "the step should have failed";
+  } catch (const SolveError& e) {
+    std::printf("[ measured ] failure message: %s\n", e.what());
+    EXPECT_EQ(e.field(), "structure");
+    EXPECT_EQ(e.step(), "load step 7");
+    EXPECT_NE(e.why().find("residual history:"), std::string::npos);
+    EXPECT_NE(e.why().find("max iterations"), std::string::npos);
+  }
+  // The state is the one before the step.
+  EXPECT_EQ(field.time(), 0.0);
+  for (const Point& p : field.displacement())
+    for (double c : p) ASSERT_EQ(c, 0.0);
+}
