@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Reproduces Figure 2 of Coroneo, Yoshihara & Wall from biofsi's own output: the substrate
-concentration and the biofilm mesh after 0, 30 and 60 growth steps, one row per case.
+concentration and the biofilm mesh after 0, 30 and 60 growth steps, one row per case (with the
+flow's velocity as arrows where the run has a fluid, case (c)).
 
 usage: scripts/figure2.py OUT.png CASE_DIR [CASE_DIR ...]
 Run with Debian's /usr/bin/python3 (python3-matplotlib, python3-h5py). Each CASE_DIR holds a run's scalar_NNNNNN.h5 files (written at growth steps). Uses Debian's
@@ -36,11 +37,12 @@ def load(case_dir, step):
         conn = f["connectivity"][...]
         block = f["block"][...].reshape(-1)
         phi = f["phi"][...].reshape(-1)
-    return coords, conn, block, phi
+        velocity = f["velocity"][...].reshape(-1, 3) if "velocity" in f else None
+    return coords, conn, block, phi, velocity
 
 
 def panel(ax, case_dir, step, vmax):
-    coords, conn, block, phi = load(case_dir, step)
+    coords, conn, block, phi, velocity = load(case_dir, step)
     quads, keep = front_faces(coords, conn)
     tri = Triangulation(coords[:, 0], coords[:, 1],
                         np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]))
@@ -48,6 +50,12 @@ def panel(ax, case_dir, step, vmax):
     biofilm = quads[block[keep] == 0]
     ax.add_collection(PolyCollection(coords[biofilm][:, :, :2], facecolors="none",
                                      edgecolors="k", linewidths=0.3))
+    if velocity is not None:
+        # Case (c)'s flow: arrows at every fourth front node above the biofilm.
+        front = np.where(np.abs(coords[:, 2] - coords[:, 2].min()) < 1e-9)[0][::4]
+        moving = front[np.hypot(velocity[front, 0], velocity[front, 1]) > 0]
+        ax.quiver(coords[moving, 0], coords[moving, 1], velocity[moving, 0], velocity[moving, 1],
+                  color="w", width=0.003, scale=1.5)
     ax.set_aspect("equal")
     ax.set_xlim(coords[:, 0].min(), coords[:, 0].max())
     ax.set_ylim(coords[:, 1].min(), coords[:, 1].max())

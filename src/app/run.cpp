@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "fluid/fluid.hpp"
 #include "growth/growth.hpp"
 #include "io/expression.hpp"
 #include "io/output.hpp"
@@ -67,6 +68,44 @@ std::vector<ScalarBoundaryCondition> transport_conditions(const Scene& scene) {
   return out;
 }
 
+FluidSettings fluid_settings(const Scene& scene) {
+  const FluidFieldSpec& f = scene.fluid;
+  FluidSettings s;
+  s.density = f.density;
+  s.viscosity = f.viscosity;
+  s.theta = scene.time.theta;
+  s.supg = f.supg;
+  s.grad_div = f.grad_div;
+  s.pseudo_2d = f.pseudo_2d;
+  s.blocks = f.blocks;
+  s.symmetric_viscous = f.symmetric_viscous;
+  s.preconditioner = f.preconditioner == "simple"    ? FluidPreconditioner::Simple
+                     : f.preconditioner == "simplec" ? FluidPreconditioner::SimpleC
+                                                     : FluidPreconditioner::MonolithicAmg;
+  s.scatter = scene.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
+  s.newton_options.max_iterations =
+      std::max(s.newton_options.max_iterations, scene.solver.newton_max_iterations);
+  return s;
+}
+
+std::vector<FluidBoundaryCondition> fluid_conditions(const Scene& scene) {
+  std::vector<FluidBoundaryCondition> out;
+  for (const auto& bc : scene.fluid.boundary_conditions) {
+    if (bc.type == "velocity")
+      out.push_back(fluid_velocity(bc.boundary, to_function(bc.value[0]), to_function(bc.value[1]),
+                                   to_function(bc.value[2])));
+    else if (bc.type == "no_slip")
+      out.push_back(fluid_no_slip(bc.boundary));
+    else if (bc.type == "slip")
+      out.push_back(fluid_slip(bc.boundary));
+    else if (bc.type == "pressure")
+      out.push_back(fluid_pressure(bc.boundary, to_function(bc.value[0])));
+    else
+      out.push_back(fluid_do_nothing(bc.boundary));
+  }
+  return out;
+}
+
 // Terminal: one updating line. Otherwise: a plain log line at most every few seconds.
 class Progress {
  public:
@@ -101,7 +140,21 @@ void print_active_fields(const Scene& scene) {
   std::cout << "active fields (derived from the scene):\n"
             << "  scalar transport: " << (scene.scalar.enabled ? "on" : "off (disabled in scene)")
             << "\n"
-            << "  fluid:     off (the scene has no inflow, moving wall or body force)\n"
+            << "  fluid:     "
+            << (scene.fluid.enabled
+                    ? "on (" + scene.fluid.mode + " incompressible Navier-Stokes on blocks " +
+                          [&] {
+                            std::string b;
+                            for (const auto& n : scene.fluid.blocks)
+                              b += (b.empty() ? "" : ", ") + n;
+                            return b;
+                          }() +
+                          "; other blocks held at rest; convects the scalar" +
+                          (scene.growth.enabled && scene.growth.k2 > 0
+                               ? ", wall shear erodes the biofilm)"
+                               : ")")
+                    : std::string("off (the scene has no fields.fluid section)"))
+            << "\n"
             << "  structure: off (the scene has no load on the biofilm)\n"
             << "  growth:    "
             << (scene.growth.enabled
@@ -169,6 +222,8 @@ class Driver {
         field_(mesh_, transport_settings(scene, mesh_), transport_conditions(scene)),
         writer_(out.string(), "scalar", overwrite),
         start_(Clock::now()) {
+    if (scene.fluid.enabled)
+      fluid_ = std::make_unique<FluidField>(mesh_, fluid_settings(scene), fluid_conditions(scene));
     std::cout << "mesh: " << mesh_.n_nodes() << " nodes, " << mesh_.n_elements()
               << " hex8 elements, " << mesh_.block_names.size() << " blocks\n";
     field_.set_initial(to_function(scene.scalar.initial), 0.0);
@@ -180,10 +235,42 @@ class Driver {
     field_.set_convective_velocity(c);
   }
 
-  int run_transport() {
+  // A flow-only scene (scalar disabled): the steady flow, or time.steps steps of it.
+  int run_flow() {
     write(0, 0.0, {});
     int step = 0;
     try {
+      if (scene_.fluid.mode == "steady") {
+        solve_steady_flow("steady flow");
+        step = 1;
+        write(step, fluid_->time(), {});
+      } else {
+        Progress progress(scene_.time.steps);
+        std::vector<double> previous = fluid_->solution_host();
+        for (step = 1; step <= scene_.time.steps; ++step) {
+          advance_flow("flow step " + std::to_string(step));
+          std::vector<double> now = fluid_->solution_host();
+          const double change = relative_change(now, previous);
+          previous = std::move(now);
+          progress.update(step, fluid_->time(), change);
+          if (step % scene_.output.every == 0 || step == scene_.time.steps)
+            write(step, fluid_->time(), {});
+          if (scene_.time.steady_tolerance > 0 && change < scene_.time.steady_tolerance) break;
+        }
+        progress.done();
+        step = std::min(step, scene_.time.steps);
+      }
+    } catch (const SolveError& e) {
+      return failed(e, step, fluid_->time());
+    }
+    return finish();
+  }
+
+  int run_transport() {
+    int step = 0;
+    try {
+      if (fluid_ && scene_.fluid.mode == "steady") solve_steady_flow("steady flow");
+      write(0, 0.0, {});
       if (scene_.time.mode == TimeMode::Steady) {
         const NewtonResult r = field_.solve_steady("steady solve");
         std::cout << "steady solve: " << r.iterations << " Newton iterations, "
@@ -235,8 +322,11 @@ class Driver {
     int k = first;
     try {
       for (k = first;; ++k) {
-        // Inner loop on the current mesh, from the state the previous growth step left.
-        std::deque<std::vector<double>> window;
+        // Inner loop on the current mesh, from the state the previous growth step left; a steady
+        // flow is solved once per mesh (the biological time scale is far slower than the flow's).
+        if (fluid_ && scene_.fluid.mode == "steady")
+          solve_steady_flow("growth " + std::to_string(k) + ": steady flow");
+        std::deque<std::vector<double>> window, shear_window;
         const InnerLoopResult r = inner_loop(
             "growth " + std::to_string(k) + "/" + std::to_string(g.steps) + "  ",
             [&](int i, double change) { progress_line(k, i, change); },
@@ -244,21 +334,27 @@ class Driver {
               if (g.averaging != "window") return;
               window.push_back(field_.boundary_flux(g.interface, biofilm).density);
               if (static_cast<int>(window.size()) > g.window) window.pop_front();
+              if (!fluid_) return;
+              shear_window.push_back(wall_shear(g.interface));
+              if (static_cast<int>(shear_window.size()) > g.window) shear_window.pop_front();
             });
         totals_.inner_steps += r.steps;
         totals_.stationary_loops += r.stationary ? 1 : 0;
         const std::vector<double> flux = growth_flux(window, biofilm);
+        const std::vector<double> shear = growth_shear(shear_window, gamma.size());
         const bool last = k == g.steps;
         if (k % g.output_every == 0 || last)
-          write(k, k * g.dt_bio, {{"flux_density", 1, false, on_nodes(mesh_, gamma, flux)}});
+          write(k, k * g.dt_bio,
+                {{"flux_density", 1, false, on_nodes(mesh_, gamma, flux)},
+                 {"wall_shear_stress", 1, false, on_nodes(mesh_, gamma, shear)}});
         if (last) break;
 
         const auto t0 = Clock::now();
         const std::string label = "growth step " + std::to_string(k + 1);
-        const InterfaceMotion im =
-            interface_motion(mesh_, gs, flux, std::vector<double>(flux.size(), 0.0));
+        const InterfaceMotion im = interface_motion(mesh_, gs, flux, shear);
         const GrowthStepReport rep = grow(mesh_, motion, gs, im, label);
         field_.update_coordinates(mesh_);
+        if (fluid_) fluid_->update_coordinates(mesh_, 0.0);
         totals_.seconds_growth += std::chrono::duration<double>(Clock::now() - t0).count();
         totals_.mesh_krylov_iterations += rep.krylov_iterations;
         ++totals_.steps;
@@ -281,6 +377,42 @@ class Driver {
   }
 
  private:
+  void solve_steady_flow(const std::string& label) {
+    const NewtonResult r = fluid_->solve_steady(label);
+    if (!tty_ || !scene_.growth.enabled)
+      std::cout << label << ": " << r.iterations << " Newton iterations, " << r.krylov_iterations
+                << " Krylov iterations, residual "
+                << (r.residual_history.empty() ? 0.0 : r.residual_history.back()) << "\n";
+    convect_scalar_with_flow();
+  }
+
+  void advance_flow(const std::string& label) {
+    fluid_->step(scene_.time.dt, label);
+    convect_scalar_with_flow();
+  }
+
+  // c = u - u_grid; the mesh does not move within an inner loop, so c = u.
+  void convect_scalar_with_flow() { field_.set_convective_velocity(fluid_->velocity()); }
+
+  // |wall shear stress| at the interface nodes (0 without a fluid).
+  std::vector<double> wall_shear(const std::string& set) const {
+    const std::vector<Point> tau = fluid_->wall_shear_stress(set);
+    std::vector<double> out(tau.size());
+    for (size_t i = 0; i < tau.size(); ++i)
+      out[i] = std::sqrt(tau[i][0] * tau[i][0] + tau[i][1] * tau[i][1] + tau[i][2] * tau[i][2]);
+    return out;
+  }
+
+  // sigma at the interface nodes: the flow's at the end of the inner loop, or the window average.
+  std::vector<double> growth_shear(const std::deque<std::vector<double>>& window, size_t n) const {
+    if (!fluid_) return std::vector<double>(n, 0.0);
+    if (window.empty()) return wall_shear(scene_.growth.interface);
+    std::vector<double> avg(window.front().size(), 0.0);
+    for (const auto& w : window)
+      for (size_t i = 0; i < avg.size(); ++i) avg[i] += w[i] / window.size();
+    return avg;
+  }
+
   // J at the interface nodes: the stationary inner solution's, or the window average.
   std::vector<double> growth_flux(const std::deque<std::vector<double>>& window,
                                   int biofilm) const {
@@ -298,6 +430,7 @@ class Driver {
     for (int i = 1; i <= scene_.time.steps; ++i) {
       std::ostringstream label;
       label << prefix << "inner step " << i << " (t = " << field_.time() + scene_.time.dt << ")";
+      if (fluid_ && scene_.fluid.mode == "transient") advance_flow(label.str());
       field_.step(scene_.time.dt, label.str());
       std::vector<double> now = field_.solution_host();
       r.change = relative_change(now, previous);
@@ -350,7 +483,14 @@ class Driver {
   }
 
   void write(int step, double time, std::vector<OutputField> extra) {
-    extra.insert(extra.begin(), {"phi", 1, false, field_.solution_host()});
+    if (fluid_) {
+      std::vector<double> u, p = fluid_->pressure();
+      for (const auto& v : fluid_->velocity()) u.insert(u.end(), v.begin(), v.end());
+      extra.insert(extra.begin(), {"pressure", 1, false, p});
+      extra.insert(extra.begin(), {"velocity", 3, false, u});
+    }
+    if (scene_.scalar.enabled)
+      extra.insert(extra.begin(), {"phi", 1, false, field_.solution_host()});
     writer_.write(step, time, mesh_, extra);
   }
 
@@ -359,11 +499,13 @@ class Driver {
     std::snprintf(name, sizeof name, "checkpoint_%06d.h5", growth_steps_done);
     std::vector<double> xyz;
     for (const auto& p : mesh_.x) xyz.insert(xyz.end(), p.begin(), p.end());
-    write_h5_datasets((out_ / name).string(),
-                      {{"coordinates", xyz},
-                       {"phi", field_.solution_host()},
-                       {"growth_step", {static_cast<double>(growth_steps_done)}},
-                       {"time", {field_.time()}}});
+    std::vector<std::pair<std::string, std::vector<double>>> data = {
+        {"coordinates", xyz},
+        {"phi", field_.solution_host()},
+        {"growth_step", {static_cast<double>(growth_steps_done)}},
+        {"time", {field_.time()}}};
+    if (fluid_) data.push_back({"fluid", fluid_->solution_host()});
+    write_h5_datasets((out_ / name).string(), data);
   }
 
   // Restores mesh, concentration and time; returns the growth step to continue with.
@@ -382,6 +524,15 @@ class Driver {
     field_.update_coordinates(mesh_);
     field_.set_solution(phi);
     field_.set_time(time[0]);
+    if (fluid_) {
+      const auto state = read_h5_dataset(path, "fluid");
+      if (state.size() != 4 * mesh_.x.size())
+        throw std::runtime_error(path + ": the checkpoint has no fluid state for this mesh");
+      fluid_->update_coordinates(mesh_, 0.0);
+      fluid_->set_solution(state);
+      fluid_->set_time(time[0]);
+      convect_scalar_with_flow();
+    }
     first_growth_step_ = static_cast<int>(step[0]);
     if (first_growth_step_ < 0 || first_growth_step_ > scene_.growth.steps)
       throw std::runtime_error(path + ": growth step " + std::to_string(first_growth_step_) +
@@ -443,10 +594,23 @@ class Driver {
       << "  scalar: " << s.steps << " solves, " << s.newton_iterations << " Newton and "
       << s.krylov_iterations << " Krylov iterations, " << s.amg_setups << " AMG set-ups, "
       << s.cut_steps << " time steps cut into sub-steps, " << s.pseudo_steps
-      << " pseudo-time steps\n"
-      << "  time [s]: total " << seconds() << "; scalar " << s.seconds_solve << " (residual "
+      << " pseudo-time steps\n";
+    if (fluid_) {
+      const FluidStats& f = fluid_->stats();
+      o << "  fluid: " << f.steps << " solves, " << f.newton_iterations << " Newton and "
+        << f.krylov_iterations << " Krylov iterations, " << f.preconditioner_setups
+        << " preconditioner set-ups, " << f.cut_steps << " time steps cut, " << f.pseudo_steps
+        << " pseudo-time steps\n";
+    }
+    o << "  time [s]: total " << seconds() << "; scalar " << s.seconds_solve << " (residual "
       << s.seconds_residual << ", tangent " << s.seconds_tangent << ", assembly "
       << s.seconds_assembly << ", AMG set-up " << s.seconds_amg_setup << ")";
+    if (fluid_) {
+      const FluidStats& f = fluid_->stats();
+      o << "; fluid " << f.seconds_solve << " (residual " << f.seconds_residual << ", tangent "
+        << f.seconds_tangent << ", assembly " << f.seconds_assembly << ", preconditioner set-up "
+        << f.seconds_preconditioner_setup << ")";
+    }
     if (scene_.growth.enabled)
       o << "; growth + mesh motion " << totals_.seconds_growth << " (" << totals_.steps
         << " steps, " << totals_.mesh_krylov_iterations << " CG iterations)";
@@ -454,8 +618,13 @@ class Driver {
     if (scene_.growth.enabled)
       o << "  mesh quality (scaled Jacobian) over the run: [" << totals_.min_quality << ", "
         << totals_.max_quality << "]\n";
-    o << "  final time " << field_.time() << ", integral of phi " << field_.integral()
-      << ", consumption rate " << field_.reaction_integral() << "\n";
+    if (scene_.scalar.enabled)
+      o << "  final time " << field_.time() << ", integral of phi " << field_.integral()
+        << ", consumption rate " << field_.reaction_integral() << "\n";
+    for (const auto& set : scene_.output.force_boundaries) {
+      const Point f = fluid_->force(set);
+      o << "  fluid force on '" << set << "': (" << f[0] << ", " << f[1] << ", " << f[2] << ")\n";
+    }
     for (const auto& set : scene_.output.flux_boundaries) {
       const int block = flux_block(mesh_, set);
       const BoundaryFlux f = field_.boundary_flux(set, block);
@@ -471,6 +640,7 @@ class Driver {
   std::filesystem::path out_;
   Mesh mesh_;
   TransportField field_;
+  std::unique_ptr<FluidField> fluid_;
   XdmfWriter writer_;
   Clock::time_point start_;
   bool tty_ = isatty(STDOUT_FILENO);
@@ -492,13 +662,14 @@ int run_scene(const RunOptions& options) {
       options.out_dir.empty() ? scene.output.directory : options.out_dir;
   std::cout << "biofsi: scene " << scene.file << ", output " << out_dir.string() << "\n";
   print_active_fields(scene);
-  if (!scene.scalar.enabled) {
+  if (!scene.scalar.enabled && !scene.fluid.enabled) {
     std::cout << "nothing to solve: every field is off\n";
     return 0;
   }
   try {
     Driver driver(scene, out_dir, options.overwrite);
     if (scene.growth.enabled) return driver.run_growth(options.restart);
+    if (!scene.scalar.enabled) return driver.run_flow();
     if (!options.restart.empty()) {
       std::cerr << "biofsi: --restart needs a scene with a growth section\n";
       return 1;

@@ -496,7 +496,7 @@ void read_fluid_field(const Checker& c, const MapView& f, const std::set<std::st
   if (!node) return;
   MapView m(c, *node, f.key("fluid"),
             {"enabled", "blocks", "density", "viscosity", "mode", "supg", "grad_div", "pseudo_2d",
-             "preconditioner", "boundary_conditions"});
+             "viscous_form", "preconditioner", "boundary_conditions"});
   FluidFieldSpec& spec = scene.fluid;
   spec.enabled = get_bool(m, "enabled", true);
   const std::string blocks_expected =
@@ -519,8 +519,10 @@ void read_fluid_field(const Checker& c, const MapView& f, const std::set<std::st
   spec.supg = get_bool(m, "supg", spec.supg);
   spec.grad_div = get_bool(m, "grad_div", spec.grad_div);
   spec.pseudo_2d = get_bool(m, "pseudo_2d", spec.pseudo_2d);
+  spec.symmetric_viscous =
+      get_choice(m, "viscous_form", {"symmetric", "gradient"}, "symmetric") == "symmetric";
   spec.preconditioner =
-      get_choice(m, "preconditioner", {"monolithic_amg", "simple"}, spec.preconditioner);
+      get_choice(m, "preconditioner", {"simple", "simplec", "monolithic_amg"}, spec.preconditioner);
   const std::string key = m.key("boundary_conditions");
   const std::string list_expected = "a list of fluid boundary conditions {boundary, type, ...}";
   const Node bcs = m.require("boundary_conditions", list_expected);

@@ -66,11 +66,12 @@ struct FluidBc {
 struct FluidFieldSpec {
   bool enabled = false;  // true when the scene has a fields.fluid section, unless enabled: false
   std::vector<std::string> blocks;
-  double density = 1, viscosity = 1;              // > 0 [mass/mm^3], dynamic [mass/(mm ms)]
-  std::string mode = "steady";                    // steady | transient (every inner step)
-  bool supg = true, grad_div = true;              // stabilisation terms besides PSPG
-  bool pseudo_2d = false;                         // w = 0 everywhere (one element thick runs)
-  std::string preconditioner = "monolithic_amg";  // monolithic_amg | simple
+  double density = 1, viscosity = 1;      // > 0 [mass/mm^3], dynamic [mass/(mm ms)]
+  std::string mode = "steady";            // steady | transient (every inner step)
+  bool supg = true, grad_div = true;      // stabilisation terms besides PSPG
+  bool pseudo_2d = false;                 // w = 0 everywhere (one element thick runs)
+  bool symmetric_viscous = true;          // false: the grad u form (benchmarks' do-nothing outflow)
+  std::string preconditioner = "simple";  // simple | simplec | monolithic_amg
   std::vector<FluidBc> boundary_conditions;
 };
 

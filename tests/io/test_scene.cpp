@@ -486,7 +486,8 @@ const std::string kFluid = R"yaml(  fluid:
     supg: false
     grad_div: false
     pseudo_2d: true
-    preconditioner: simple
+    viscous_form: gradient
+    preconditioner: simplec
     boundary_conditions:
       - {boundary: left, type: velocity, value: ["0.0375 + 0.0125*y", 0, 0]}
       - {boundary: biofilm_fluid, type: no_slip}
@@ -511,7 +512,8 @@ TEST(Scene, ReadsTheFluidField) {
   EXPECT_FALSE(f.supg);
   EXPECT_FALSE(f.grad_div);
   EXPECT_TRUE(f.pseudo_2d);
-  EXPECT_EQ(f.preconditioner, "simple");
+  EXPECT_FALSE(f.symmetric_viscous);
+  EXPECT_EQ(f.preconditioner, "simplec");
   ASSERT_EQ(f.boundary_conditions.size(), 5u);
   EXPECT_EQ(f.boundary_conditions[0].type, "velocity");
   EXPECT_EQ(f.boundary_conditions[0].value[0], "0.0375 + 0.0125*y");
@@ -520,6 +522,13 @@ TEST(Scene, ReadsTheFluidField) {
   EXPECT_EQ(f.boundary_conditions[4].value[0], "1 + t");
   EXPECT_EQ(f.boundary_conditions[2].line, line_of(with_fluid(kFull), "type: slip"));
   EXPECT_FALSE(parse_scene(kFull, kFile).fluid.enabled);
+  // Defaults: the symmetric viscous form of eq. 2 and SIMPLE (the measured best).
+  const Scene d = parse_scene(
+      replaced(replaced(with_fluid(kFull), "    viscous_form: gradient\n", ""),
+               "    preconditioner: simplec\n", ""),
+      kFile);
+  EXPECT_TRUE(d.fluid.symmetric_viscous);
+  EXPECT_EQ(d.fluid.preconditioner, "simple");
 }
 
 TEST(Scene, RejectsBadFluidInput) {
