@@ -2,18 +2,18 @@
 // cases/meshes (refine 2 here, in CI time); the refinement studies (refine 1, 2, 4) are in
 // test_fluid_long (BIOFSI_FLUID_LONG, label long).
 //
-// Tolerances, and why:
-//  * Drag within 1% (the issue's requirement) on every mesh where it is asserted.
-//  * Lift within 5% (the issue's requirement) is asserted where the mesh resolves it: DFG at
-//    refine 4 (long test; measured -3.6%). Lift is a small difference of large pressure forces
-//    (c_L / c_D ~ 2e-3 for DFG) and converges slowly on these Q1 meshes with a polygonal
-//    cylinder: +26% (DFG) and +7.8% (CFD1) at refine 2. In CI the lift is held to a coarse-mesh
-//    band (30% DFG, 10% CFD1) that catches a sign or scaling error, not the 5% claim.
-//  * CFD1 lift at refine 4 measures +5.08%, just outside the issue's 5%: the long test holds it
-//    to 6% and the issue's 5% is reported as not met on the meshes we can run (refine 8 needs
-//    ~4x the refine-4 time, beyond the long-test budget on 2 cores).
-//  * Delta p (DFG) within 3%: measured +2.2% (refine 2) and +1.7% (refine 4); the band is the
-//    coarse-mesh accuracy, the issue asks for no Delta p tolerance.
+// The meshes are block-structured (transfinite patches, an O-grid ring round the cylinder).
+// Measured (velocity strong threshold 0.7, SIMPLE), deviation from the reference:
+//   DFG  refine 1 (3800 nodes):  drag +0.23%, lift -4.49%, dp +1.15%
+//   DFG  refine 2 (14752 nodes): drag +0.05%, lift -1.14%, dp +0.69%
+//   CFD1 refine 1 (5788 nodes):  drag +0.90%, lift +1.38%
+//   CFD1 refine 2 (22360 nodes): drag +0.29%, lift +0.50%
+// (The earlier unstructured meshes gave lift +26% (DFG) and +7.8% (CFD1) at refine 2: lift is a
+// small difference of large pressure forces, c_L / c_D ~ 2e-3 for DFG, and was dominated by the
+// irregular cells at the cylinder.)
+// Tolerances, and why: drag 1% and lift 5% are the issue's requirements, asserted on the CI mesh
+// and the finer ones. Delta p (DFG) within 2%: the issue asks for none; the band is twice the
+// coarse-mesh error, to catch a pressure-scaling error.
 #include <gtest/gtest.h>
 
 #include "fluid/fluid_benchmarks.hpp"
@@ -28,8 +28,8 @@ TEST(FluidBenchmarks, Dfg2d1DragAndLiftMatchReference) {
   const BenchmarkResult r = run_dfg(refine);
   print_benchmark("DFG 2D-1 c_D/c_L", refine, r, DfgReference::c_d, DfgReference::c_l);
   EXPECT_NEAR(r.drag, DfgReference::c_d, 0.01 * DfgReference::c_d);
-  EXPECT_NEAR(r.lift, DfgReference::c_l, 0.30 * DfgReference::c_l);  // coarse-mesh band
-  EXPECT_NEAR(r.dp, DfgReference::dp, 0.03 * DfgReference::dp);
+  EXPECT_NEAR(r.lift, DfgReference::c_l, 0.05 * DfgReference::c_l);
+  EXPECT_NEAR(r.dp, DfgReference::dp, 0.02 * DfgReference::dp);
 }
 
 TEST(FluidBenchmarks, TurekHronCfd1DragAndLiftMatchReference) {
@@ -38,7 +38,7 @@ TEST(FluidBenchmarks, TurekHronCfd1DragAndLiftMatchReference) {
   print_benchmark("Turek-Hron CFD1 drag/lift [N/m]", refine, r, Cfd1Reference::drag,
                   Cfd1Reference::lift);
   EXPECT_NEAR(r.drag, Cfd1Reference::drag, 0.01 * Cfd1Reference::drag);
-  EXPECT_NEAR(r.lift, Cfd1Reference::lift, 0.10 * Cfd1Reference::lift);  // coarse-mesh band
+  EXPECT_NEAR(r.lift, Cfd1Reference::lift, 0.05 * Cfd1Reference::lift);
 }
 
 #else
@@ -47,7 +47,7 @@ TEST(FluidBenchmarks, Dfg2d1RefinementStudy) {
   for (int refine : {1, 2, 4}) {
     const BenchmarkResult r = run_dfg(refine);
     print_benchmark("DFG 2D-1 c_D/c_L", refine, r, DfgReference::c_d, DfgReference::c_l);
-    if (refine == 4) {
+    if (refine >= 2) {
       EXPECT_NEAR(r.drag, DfgReference::c_d, 0.01 * DfgReference::c_d);
       EXPECT_NEAR(r.lift, DfgReference::c_l, 0.05 * DfgReference::c_l);
     }
@@ -59,10 +59,9 @@ TEST(FluidBenchmarks, TurekHronCfd1RefinementStudy) {
     const BenchmarkResult r = run_cfd1(refine);
     print_benchmark("Turek-Hron CFD1 drag/lift [N/m]", refine, r, Cfd1Reference::drag,
                     Cfd1Reference::lift);
-    if (refine == 4) {
+    if (refine >= 2) {
       EXPECT_NEAR(r.drag, Cfd1Reference::drag, 0.01 * Cfd1Reference::drag);
-      // 6%, not the issue's 5%: see the header (measured +5.08% at refine 4).
-      EXPECT_NEAR(r.lift, Cfd1Reference::lift, 0.06 * Cfd1Reference::lift);
+      EXPECT_NEAR(r.lift, Cfd1Reference::lift, 0.05 * Cfd1Reference::lift);
     }
   }
 }
