@@ -21,6 +21,24 @@ void MeshDisplacementBc::prescribe(int node, const Point& d) {
   value[node] = d;
 }
 
+MeshDisplacementBc wall_constraints(const Mesh& mesh, const std::vector<std::string>& fixed_walls,
+                                    const std::vector<std::string>& sliding_walls) {
+  MeshDisplacementBc bc;
+  for (const auto& wall : fixed_walls)
+    if (mesh.node_sets.count(wall)) bc.fix(mesh.node_sets.at(wall), {true, true, true});
+  for (const auto& wall : sliding_walls) {
+    if (!mesh.node_sets.count(wall)) continue;
+    const auto& nodes = mesh.node_sets.at(wall);
+    const auto normal = nodal_normals(mesh, wall);
+    for (size_t j = 0; j < nodes.size(); ++j) {
+      std::array<bool, 3> mask{false, false, false};
+      mask[wall_axis(normal[j], wall)] = true;
+      bc.fix({nodes[j]}, mask);
+    }
+  }
+  return bc;
+}
+
 namespace {
 
 std::vector<int> all_elements(const Mesh& mesh) {

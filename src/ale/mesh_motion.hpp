@@ -33,6 +33,11 @@ struct MeshDisplacementBc {
   void prescribe(int node, const Point& d);
 };
 
+// Walls of a mesh motion: every component fixed on `fixed_walls`, the wall-normal component on
+// `sliding_walls` (axis-aligned walls only); sets the mesh does not have are skipped.
+MeshDisplacementBc wall_constraints(const Mesh& mesh, const std::vector<std::string>& fixed_walls,
+                                    const std::vector<std::string>& sliding_walls);
+
 struct MeshMotionResult {
   int krylov_iterations = 0;
   double max_displacement = 0;

@@ -9,10 +9,11 @@ namespace biofsi {
 
 namespace {
 
-AmgOptions velocity_amg() {
+AmgOptions velocity_amg(double strong_threshold) {
   AmgOptions o;
   o.num_functions = 3;
   o.nodal_coarsening = true;
+  o.strong_threshold = strong_threshold;
   return o;
 }
 
@@ -43,19 +44,23 @@ CsrMatrix to_device(const HostCsr& h, const std::string& label) {
   return m;
 }
 
-}  // namespace
+// The four blocks of a Jacobian with 4 interleaved unknowns per node, and diag(A) (or, row_sum, the
+// absolute row sums of A with the diagonal's sign) inverted.
+struct SplitJacobian {
+  HostCsr a, g, b, c;
+  std::vector<double> dinv;
+};
 
-SimplePreconditioner::SimplePreconditioner(bool row_sum)
-    : row_sum_(row_sum), amg_a_(velocity_amg()), amg_s_(AmgOptions{}) {}
-
-void SimplePreconditioner::setup(const CsrMatrix& j) {
-  if (j.n_rows % 4 != 0) throw std::invalid_argument("SIMPLE: rows are not 4 per node");
+SplitJacobian split_jacobian(const CsrMatrix& j, bool row_sum) {
+  if (j.n_rows % 4 != 0)
+    throw std::invalid_argument("fluid preconditioner: rows are not 4 per node");
   const int nn = j.n_rows / 4;
   auto rp = Kokkos::create_mirror_view_and_copy(HostSpace(), j.row_ptr);
   auto col = Kokkos::create_mirror_view_and_copy(HostSpace(), j.col);
   auto val = Kokkos::create_mirror_view_and_copy(HostSpace(), j.val);
-  HostCsr a, g, b, c;
-  std::vector<double> dinv(3 * nn, 1.0);
+  SplitJacobian out;
+  HostCsr &a = out.a, &g = out.g, &b = out.b, &c = out.c;
+  out.dinv.assign(3 * nn, 1.0);
   for (int r = 0; r < j.n_rows; ++r) {
     const int comp = r % 4;
     double diag = 0, abs_sum = 0;
@@ -69,8 +74,8 @@ void SimplePreconditioner::setup(const CsrMatrix& j) {
     }
     if (comp < 3) {
       // SIMPLEC keeps the sign of the diagonal (positive here: mass, viscosity, SUPG).
-      const double dd = row_sum_ ? (diag < 0 ? -abs_sum : abs_sum) : diag;
-      dinv[3 * (r / 4) + comp] = dd != 0 ? 1 / dd : 1.0;
+      const double dd = row_sum ? (diag < 0 ? -abs_sum : abs_sum) : diag;
+      out.dinv[3 * (r / 4) + comp] = dd != 0 ? 1 / dd : 1.0;
     }
     if (comp < 3) {
       a.end_row();
@@ -80,6 +85,19 @@ void SimplePreconditioner::setup(const CsrMatrix& j) {
       c.end_row();
     }
   }
+  return out;
+}
+
+}  // namespace
+
+SimplePreconditioner::SimplePreconditioner(bool row_sum, double strong_threshold)
+    : row_sum_(row_sum), amg_a_(velocity_amg(strong_threshold)), amg_s_(AmgOptions{}) {}
+
+void SimplePreconditioner::setup(const CsrMatrix& j) {
+  const int nn = j.n_rows / 4;
+  SplitJacobian split = split_jacobian(j, row_sum_);
+  const HostCsr &a = split.a, &g = split.g, &b = split.b, &c = split.c;
+  const std::vector<double>& dinv = split.dinv;
   // S = C - B D^-1 G, row by row with a dense accumulator (classical sparse product).
   HostCsr s;
   std::vector<double> acc(nn, 0.0);

@@ -14,7 +14,7 @@ namespace biofsi {
 
 class SimplePreconditioner {
  public:
-  explicit SimplePreconditioner(bool row_sum = false);
+  explicit SimplePreconditioner(bool row_sum = false, double strong_threshold = 0.25);
   void setup(const CsrMatrix& jacobian);
   void apply(ConstVector r, Vector z) const;
   int velocity_levels() const { return amg_a_.levels(); }

@@ -16,27 +16,6 @@ namespace biofsi {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-class ScopedTimer {
- public:
-  explicit ScopedTimer(double& seconds) : seconds_(seconds), start_(Clock::now()) {}
-  ~ScopedTimer() {
-    Kokkos::fence();
-    seconds_ += std::chrono::duration<double>(Clock::now() - start_).count();
-  }
-
- private:
-  double& seconds_;
-  Clock::time_point start_;
-};
-
-std::vector<double> to_host_vector(ConstVector d) {
-  auto h = Kokkos::create_mirror_view(d);
-  Kokkos::deep_copy(h, d);
-  return std::vector<double>(h.data(), h.data() + h.extent(0));
-}
-
 FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
   FaceView d("biofsi::fluid_faces", faces.size());
   auto h = Kokkos::create_mirror_view(d);
@@ -206,8 +185,9 @@ FluidField::FluidField(const Mesh& mesh, const FluidSettings& settings,
     o.nodal_coarsening = true;
     amg_ = std::make_unique<BoomerAmg>(o);
   } else {
-    simple_ = std::make_unique<SimplePreconditioner>(settings_.preconditioner ==
-                                                     FluidPreconditioner::SimpleC);
+    simple_ = std::make_unique<SimplePreconditioner>(
+        settings_.preconditioner == FluidPreconditioner::SimpleC,
+        settings_.velocity_strong_threshold);
   }
   prepare(0.0, 1.0);
 }
@@ -332,20 +312,44 @@ void FluidField::update_face_data(double t) {
   }
 }
 
-void FluidField::residual(ConstVector u, Vector r) const {
+void FluidField::residual_unconstrained(ConstVector u, Vector r) const {
   fill(r, 0);
   op_.residual(groups_, u, r);
   for (const auto& f : faces_) f.op.residual(u, r);
+}
+
+void FluidField::tangent_unconstrained(ConstVector u, ConstVector du, Vector y) const {
+  fill(y, 0);
+  op_.apply_tangent(groups_, u, du, y);
+  for (const auto& f : faces_) f.op.apply_tangent(u, du, y);
+}
+
+void FluidField::residual(ConstVector u, Vector r) const {
+  residual_unconstrained(u, r);
   constrained_residual(fixed_dofs_, fixed_values_, u, r);
 }
 
 void FluidField::apply_tangent(ConstVector u, ConstVector du, Vector y) const {
   copy(du, scratch_);
   zero_constrained(fixed_dofs_, scratch_);
-  fill(y, 0);
-  op_.apply_tangent(groups_, u, scratch_, y);
-  for (const auto& f : faces_) f.op.apply_tangent(u, scratch_, y);
+  tangent_unconstrained(u, scratch_, y);
   copy_constrained(fixed_dofs_, du, y);
+}
+
+void FluidField::set_geometry(ConstCoordView x, ConstVector grid_velocity) {
+  Kokkos::deep_copy(dmesh_.x, x);
+  auto aux = aux_;
+  Kokkos::parallel_for(
+      "biofsi::fluid_grid_velocity", Kokkos::RangePolicy<ExecSpace>(0, mesh_.n_nodes()),
+      KOKKOS_LAMBDA(int n) {
+        for (int d = 0; d < 3; ++d) aux(n, 3 + d) = grid_velocity(3 * n + d);
+      });
+}
+
+void FluidField::sync_host_coordinates() {
+  auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), dmesh_.x);
+  for (int n = 0; n < mesh_.n_nodes(); ++n)
+    for (int d = 0; d < 3; ++d) mesh_.x[n][d] = h(n, d);
 }
 
 void FluidField::diagonal(ConstVector u, Vector d) const {
@@ -358,19 +362,21 @@ void FluidField::diagonal(ConstVector u, Vector d) const {
       KOKKOS_LAMBDA(int i) { d(dofs(i)) = 1.0; });
 }
 
-const CsrMatrix& FluidField::assemble_jacobian(ConstVector u) {
+const CsrMatrix& FluidField::assemble_jacobian(ConstVector u, bool eliminate) {
+  ScopedTimer t(stats_.seconds_assembly);
   fill(matrix_.val, 0);
   op_.assemble(groups_, u, matrix_);
   for (const auto& f : faces_) f.op.assemble(u, matrix_);
-  csr_eliminate_constrained(matrix_, fixed_);
+  if (eliminate) csr_eliminate_constrained(matrix_, fixed_);
   return matrix_;
 }
 
 void FluidField::setup_preconditioner(ConstVector u) {
-  {
-    ScopedTimer t(stats_.seconds_assembly);
-    assemble_jacobian(u);
-  }
+  assemble_jacobian(u);
+  setup_preconditioner_on_matrix();
+}
+
+void FluidField::setup_preconditioner_on_matrix() {
   ScopedTimer t(stats_.seconds_preconditioner_setup);
   if (amg_)
     amg_->setup(matrix_);
@@ -446,6 +452,28 @@ NewtonResult FluidField::advance(const std::string& label) {
   return result;
 }
 
+void FluidField::begin_step(double dt) {
+  const double theta = settings_.theta;
+  save_old_state();
+  prepare(1.0 / dt, theta);
+  update_face_data(time_ + theta * dt);
+  update_body_force(time_ + theta * dt);
+  impose_dirichlet(time_ + dt);
+}
+
+void FluidField::begin_steady() {
+  save_old_state();
+  prepare(0.0, 1.0);
+  update_face_data(time_);
+  update_body_force(time_);
+  impose_dirichlet(time_);
+}
+
+void FluidField::end_step(double dt) {
+  time_ += dt;
+  ++stats_.steps;
+}
+
 NewtonResult FluidField::step_once(double dt, double theta, const std::string& label) {
   save_old_state();
   prepare(1.0 / dt, theta);
@@ -489,11 +517,7 @@ NewtonResult FluidField::step(double dt, const std::string& label) {
 }
 
 NewtonResult FluidField::steady_newton(const std::string& label) {
-  save_old_state();
-  prepare(0.0, 1.0);
-  update_face_data(time_);
-  update_body_force(time_);
-  impose_dirichlet(time_);
+  begin_steady();
   return advance(label);
 }
 

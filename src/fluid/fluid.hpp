@@ -65,6 +65,11 @@ struct FluidSettings {
   // SIMPLE by measurement (bench/README.md, tests/fluid): monolithic systems AMG stagnates on
   // finer meshes of the stabilised saddle-point Jacobian.
   FluidPreconditioner preconditioner = FluidPreconditioner::Simple;
+  // BoomerAMG strong threshold of the velocity block (SIMPLE, SIMPLEC). 0.7 by measurement on
+  // the Turek-Hron channel (refine 2, CFD1: 1345, 1064, 570 FGMRES iterations over 5 Newton steps
+  // at 0.25, 0.5, 0.7; its stretched wake and boundary-layer cells need the higher threshold),
+  // equal counts on the square cavity.
+  double velocity_strong_threshold = 0.7;
   Scatter scatter = Scatter::Colored;
   NewtonOptions newton_options = default_newton();
   // A time step whose Newton solve fails is retried as 2, 4, ... 2^max_step_cuts sub-steps.
@@ -153,7 +158,35 @@ class FluidField {
   void residual(ConstVector u, Vector r) const;
   void apply_tangent(ConstVector u, ConstVector du, Vector y) const;
   void diagonal(ConstVector u, Vector d) const;
-  const CsrMatrix& assemble_jacobian(ConstVector u);
+  const CsrMatrix& assemble_jacobian(ConstVector u, bool eliminate = true);
+
+  // ---- the pieces of a step, for a coupled (monolithic) solve that owns the Newton loop ----
+  // Sets up the step t -> t + dt (or the steady problem): old state, physics, boundary data at
+  // the step's times, Dirichlet values imposed on state().
+  void begin_step(double dt);
+  void begin_steady();
+  // Accepts state() as the solution of the step begun last.
+  void end_step(double dt);
+  Vector state() { return state_; }
+  // Element and face terms only: no constraints, the direction used as given.
+  void residual_unconstrained(ConstVector u, Vector r) const;
+  void tangent_unconstrained(ConstVector u, ConstVector du, Vector y) const;
+  ConstIndexView constrained_dofs() const { return fixed_dofs_; }
+  Kokkos::View<const char*, MemSpace> constrained_mask() const { return fixed_; }
+  const CsrMatrix& matrix() const { return matrix_; }
+  // Back to the state the step began from (a coupled solve that failed).
+  void restore_old_state() { copy(state_old_, state_); }
+  ConstVector constrained_values() const { return fixed_values_; }
+  // The mesh as the coupling moves it: node coordinates and nodal grid velocity (3 per node) on
+  // the device; the host copy of the coordinates (boundary data, tractions, output) is refreshed
+  // by sync_host_coordinates().
+  void set_geometry(ConstCoordView x, ConstVector grid_velocity);
+  void sync_host_coordinates();
+  ConstCoordView device_coordinates() const { return dmesh_.x; }
+  // Preconditioner set-up on the matrix of assemble_jacobian(u, true), as changed by the caller.
+  void setup_preconditioner_on_matrix();
+  void precondition(ConstVector r, Vector z) const;
+  const std::vector<int>& elements() const { return elements_; }
 
  private:
   struct FixedDof {
@@ -175,7 +208,6 @@ class FluidField {
   void update_face_data(double t_eval);
   void update_body_force(double t_eval);
   void setup_preconditioner(ConstVector u);
-  void precondition(ConstVector r, Vector z) const;
   void save_old_state();
   int axis_normal_of(const std::string& set) const;
 

@@ -6,65 +6,6 @@
 
 namespace biofsi {
 
-namespace {
-
-Point cross(const Point& a, const Point& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
-double dot3(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-// Index of a node in a sorted node list, -1 if absent.
-int position(const std::vector<int>& sorted, int node) {
-  const auto it = std::lower_bound(sorted.begin(), sorted.end(), node);
-  return it != sorted.end() && *it == node ? static_cast<int>(it - sorted.begin()) : -1;
-}
-
-// The axis a wall's normal is aligned with; sliding is implemented for axis-aligned walls only.
-int wall_axis(const Point& n, const std::string& set) {
-  int axis = 0;
-  for (int d = 1; d < 3; ++d)
-    if (std::abs(n[d]) > std::abs(n[axis])) axis = d;
-  if (std::abs(std::abs(n[axis]) - 1.0) > 1e-8)
-    throw std::invalid_argument("growth: nodes can slide only along axis-aligned walls; set '" +
-                                set + "' is not one");
-  return axis;
-}
-
-}  // namespace
-
-std::vector<Point> nodal_normals(const Mesh& mesh, const std::string& set) {
-  const auto& nodes = mesh.node_sets.at(set);
-  std::vector<Point> n(nodes.size(), Point{0, 0, 0});
-  for (const auto& f : mesh.face_sets.at(set)) {
-    int v[4];
-    for (int k = 0; k < 4; ++k) v[k] = mesh.conn[f.element][hex8_face_nodes[f.local_face][k]];
-    // Twice the area vector of the bilinear quad (diagonals' cross product).
-    Point d1, d2, centre{0, 0, 0}, elem_centre{0, 0, 0};
-    for (int c = 0; c < 3; ++c) {
-      d1[c] = mesh.x[v[2]][c] - mesh.x[v[0]][c];
-      d2[c] = mesh.x[v[3]][c] - mesh.x[v[1]][c];
-    }
-    Point a = cross(d1, d2);
-    for (int k = 0; k < 4; ++k)
-      for (int c = 0; c < 3; ++c) centre[c] += mesh.x[v[k]][c] / 4;
-    for (int k = 0; k < 8; ++k)
-      for (int c = 0; c < 3; ++c) elem_centre[c] += mesh.x[mesh.conn[f.element][k]][c] / 8;
-    Point out{centre[0] - elem_centre[0], centre[1] - elem_centre[1], centre[2] - elem_centre[2]};
-    const double sign = dot3(a, out) < 0 ? -0.5 : 0.5;  // orient outward; 0.5: area, not twice
-    for (int k = 0; k < 4; ++k) {
-      const int i = position(nodes, v[k]);
-      for (int c = 0; c < 3; ++c) n[i][c] += sign * a[c] / 4;
-    }
-  }
-  for (auto& v : n) {
-    const double len = std::sqrt(dot3(v, v));
-    if (len > 0)
-      for (auto& c : v) c /= len;
-  }
-  return n;
-}
-
 InterfaceMotion interface_motion(const Mesh& mesh, const GrowthSettings& s,
                                  const std::vector<double>& flux_density,
                                  const std::vector<double>& shear_stress) {
@@ -86,7 +27,7 @@ InterfaceMotion interface_motion(const Mesh& mesh, const GrowthSettings& s,
     const auto& wall_nodes = mesh.node_sets.at(wall);
     const auto wall_normal = nodal_normals(mesh, wall);
     for (size_t i = 0; i < m.nodes.size(); ++i) {
-      const int j = position(wall_nodes, m.nodes[i]);
+      const int j = position_in_sorted(wall_nodes, m.nodes[i]);
       if (j >= 0) m.displacement[i][wall_axis(wall_normal[j], wall)] = 0;
     }
   }
@@ -95,19 +36,7 @@ InterfaceMotion interface_motion(const Mesh& mesh, const GrowthSettings& s,
 
 GrowthStepReport grow(Mesh& mesh, MeshMotion& motion, const GrowthSettings& s,
                       const InterfaceMotion& interface, const std::string& label) {
-  MeshDisplacementBc bc;
-  for (const auto& wall : s.fixed_walls)
-    if (mesh.node_sets.count(wall)) bc.fix(mesh.node_sets.at(wall), {true, true, true});
-  for (const auto& wall : s.sliding_walls) {
-    if (!mesh.node_sets.count(wall)) continue;
-    const auto& nodes = mesh.node_sets.at(wall);
-    const auto normal = nodal_normals(mesh, wall);
-    for (size_t j = 0; j < nodes.size(); ++j) {
-      std::array<bool, 3> mask{false, false, false};
-      mask[wall_axis(normal[j], wall)] = true;
-      bc.fix({nodes[j]}, mask);
-    }
-  }
+  MeshDisplacementBc bc = wall_constraints(mesh, s.fixed_walls, s.sliding_walls);
   for (size_t i = 0; i < interface.nodes.size(); ++i)
     bc.prescribe(interface.nodes[i], interface.displacement[i]);
 
@@ -131,7 +60,8 @@ GrowthStepReport grow(Mesh& mesh, MeshMotion& motion, const GrowthSettings& s,
     }
   double sum = 0;
   for (const auto& v : interface.displacement) {
-    r.max_interface_displacement = std::max(r.max_interface_displacement, std::sqrt(dot3(v, v)));
+    r.max_interface_displacement =
+        std::max(r.max_interface_displacement, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
     sum += v[1];
   }
   r.mean_interface_displacement =

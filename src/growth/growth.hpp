@@ -25,10 +25,6 @@ struct GrowthSettings {
   double min_quality = 0.02;  // smallest scaled Jacobian accepted after a move
 };
 
-// Area-weighted nodal normals of a face set, pointing out of the faces' elements, for the nodes of
-// node_sets[set] in that order.
-std::vector<Point> nodal_normals(const Mesh& mesh, const std::string& set);
-
 struct InterfaceMotion {
   std::vector<int> nodes;           // interface nodes (node_sets[interface_set])
   std::vector<double> velocity;     // v = K1 J - K2 sigma

@@ -277,4 +277,61 @@ Vector Constraints::values() const {
   return d;
 }
 
+namespace {
+
+Point cross(const Point& a, const Point& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+double dot3(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+}  // namespace
+
+int position_in_sorted(const std::vector<int>& sorted, int node) {
+  const auto it = std::lower_bound(sorted.begin(), sorted.end(), node);
+  return it != sorted.end() && *it == node ? static_cast<int>(it - sorted.begin()) : -1;
+}
+
+int wall_axis(const Point& n, const std::string& set) {
+  int axis = 0;
+  for (int d = 1; d < 3; ++d)
+    if (std::abs(n[d]) > std::abs(n[axis])) axis = d;
+  if (std::abs(std::abs(n[axis]) - 1.0) > 1e-8)
+    throw std::invalid_argument(
+        "mesh motion: nodes can slide only along axis-aligned walls; set '" + set + "' is not one");
+  return axis;
+}
+
+std::vector<Point> nodal_normals(const Mesh& mesh, const std::string& set) {
+  const auto& nodes = mesh.node_sets.at(set);
+  std::vector<Point> n(nodes.size(), Point{0, 0, 0});
+  for (const auto& f : mesh.face_sets.at(set)) {
+    int v[4];
+    for (int k = 0; k < 4; ++k) v[k] = mesh.conn[f.element][hex8_face_nodes[f.local_face][k]];
+    // Twice the area vector of the bilinear quad (diagonals' cross product).
+    Point d1, d2, centre{0, 0, 0}, elem_centre{0, 0, 0};
+    for (int c = 0; c < 3; ++c) {
+      d1[c] = mesh.x[v[2]][c] - mesh.x[v[0]][c];
+      d2[c] = mesh.x[v[3]][c] - mesh.x[v[1]][c];
+    }
+    Point a = cross(d1, d2);
+    for (int k = 0; k < 4; ++k)
+      for (int c = 0; c < 3; ++c) centre[c] += mesh.x[v[k]][c] / 4;
+    for (int k = 0; k < 8; ++k)
+      for (int c = 0; c < 3; ++c) elem_centre[c] += mesh.x[mesh.conn[f.element][k]][c] / 8;
+    Point out{centre[0] - elem_centre[0], centre[1] - elem_centre[1], centre[2] - elem_centre[2]};
+    const double sign = dot3(a, out) < 0 ? -0.5 : 0.5;  // orient outward; 0.5: area, not twice
+    for (int k = 0; k < 4; ++k) {
+      const int i = position_in_sorted(nodes, v[k]);
+      for (int c = 0; c < 3; ++c) n[i][c] += sign * a[c] / 4;
+    }
+  }
+  for (auto& v : n) {
+    const double len = std::sqrt(dot3(v, v));
+    if (len > 0)
+      for (auto& c : v) c /= len;
+  }
+  return n;
+}
+
 }  // namespace biofsi

@@ -99,6 +99,15 @@ void copy_coordinates_to_device(const Mesh& mesh, CoordView x);
 // the corner's edge vectors; 1 for a cube, <= 0 for an inverted or degenerate element.
 std::vector<double> scaled_jacobians(const Mesh& mesh);
 
+// Area-weighted nodal normals of a face set, pointing out of the faces' elements, for the nodes of
+// node_sets[set] in that order.
+std::vector<Point> nodal_normals(const Mesh& mesh, const std::string& set);
+// The coordinate axis a unit wall normal is aligned with; throws for a wall that is not
+// axis-aligned (nodes slide only along those).
+int wall_axis(const Point& normal, const std::string& set);
+// Index of a node in a sorted node list, -1 if absent.
+int position_in_sorted(const std::vector<int>& sorted, int node);
+
 // Dof map of a field with n_components per node over all mesh nodes. Single rank: global dof ids
 // equal local ones; owned dofs come first (the owned/ghost split of the nodes).
 struct DofMap {

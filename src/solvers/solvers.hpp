@@ -4,6 +4,7 @@
 // it; it depends on no field.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -23,6 +24,27 @@ void axpby(Real alpha, ConstVector x, Real beta, Vector y);  // y = alpha x + be
 void scale(Real alpha, Vector x);                            // x *= alpha
 void fill(Vector x, Real value);
 void copy(ConstVector from, Vector to);
+
+// Host copies of dof vectors (set-up, output and verification; never inside solver loops).
+std::vector<double> to_host_vector(ConstVector d);
+Vector to_device_vector(const std::vector<double>& v, const std::string& label);
+
+// Accumulates the fenced wall time of a scope into `seconds` (per-phase timings of the fields).
+class ScopedTimer {
+ public:
+  explicit ScopedTimer(double& seconds)
+      : seconds_(seconds), start_(std::chrono::steady_clock::now()) {}
+  ~ScopedTimer() {
+    Kokkos::fence();
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  ScopedTimer(const ScopedTimer&) = delete;
+  ScopedTimer& operator=(const ScopedTimer&) = delete;
+
+ private:
+  double& seconds_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 // y = A x for an operator that is only known by its action.
 using ApplyFn = std::function<void(ConstVector x, Vector y)>;

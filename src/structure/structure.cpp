@@ -14,21 +14,6 @@ namespace biofsi {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-class ScopedTimer {
- public:
-  explicit ScopedTimer(double& seconds) : seconds_(seconds), start_(Clock::now()) {}
-  ~ScopedTimer() {
-    Kokkos::fence();
-    seconds_ += std::chrono::duration<double>(Clock::now() - start_).count();
-  }
-
- private:
-  double& seconds_;
-  Clock::time_point start_;
-};
-
 FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
   FaceView d("biofsi::structure_faces", faces.size());
   auto h = Kokkos::create_mirror_view(d);
@@ -38,12 +23,6 @@ FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
   }
   Kokkos::deep_copy(d, h);
   return d;
-}
-
-std::vector<double> to_host_vector(ConstVector d) {
-  auto h = Kokkos::create_mirror_view(d);
-  Kokkos::deep_copy(h, d);
-  return std::vector<double>(h.data(), h.data() + h.extent(0));
 }
 
 void copy_to_device(const std::vector<double>& v, Vector d) {
@@ -127,7 +106,6 @@ StructureField::StructureField(const Mesh& mesh, const StructureSettings& settin
     : mesh_(mesh),
       settings_(settings),
       dmesh_(to_device(mesh)),
-      all_elements_(mesh.n_elements()),
       aux_("biofsi::structure_aux", mesh.n_nodes(), StructurePhysics::n_aux),
       op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, StructurePhysics{}) {
   const int nb = static_cast<int>(mesh.block_names.size());
@@ -137,26 +115,43 @@ StructureField::StructureField(const Mesh& mesh, const StructureSettings& settin
   if (static_cast<int>(settings.materials.size()) != nb)
     throw std::invalid_argument("structure: " + std::to_string(settings.materials.size()) +
                                 " materials given for " + std::to_string(nb) + " mesh blocks");
-  for (const auto& m : settings.materials)
-    if (!(m.mu > 0) || !(m.lambda + 2.0 * m.mu / 3.0 > 0) || !(m.density >= 0))
-      throw std::invalid_argument("structure: a material needs mu > 0, bulk modulus > 0, rho >= 0");
+  std::vector<char> active_block(nb, settings.blocks.empty() ? 1 : 0);
+  for (const auto& name : settings.blocks) {
+    const int b = mesh.block_index(name);
+    if (b < 0) throw std::invalid_argument("structure: unknown block '" + name + "'");
+    active_block[b] = 1;
+  }
+  for (int b = 0; b < nb; ++b) {
+    const auto& m = settings.materials[b];
+    if (active_block[b] && (!(m.mu > 0) || !(m.lambda + 2.0 * m.mu / 3.0 > 0) || !(m.density >= 0)))
+      throw std::invalid_argument("structure: the material of block '" + mesh.block_names[b] +
+                                  "' needs mu > 0, bulk modulus > 0, rho >= 0");
+  }
   if (!settings.quasi_static && !(settings.theta >= 0.5 && settings.theta <= 1))
     throw std::invalid_argument("structure: theta must lie in [0.5, 1]");
-  for (int e = 0; e < mesh.n_elements(); ++e) all_elements_[e] = e;
+  std::vector<char> active_node(mesh.n_nodes(), 0);
+  for (int e = 0; e < mesh.n_elements(); ++e)
+    if (active_block[mesh.element_block[e]]) {
+      elements_.push_back(e);
+      for (int a : mesh.conn[e]) active_node[a] = 1;
+    }
+  for (int node = 0; node < mesh.n_nodes(); ++node)
+    if (active_node[node]) active_nodes_.push_back(node);
   {
-    Point lo = mesh.x.empty() ? Point{0, 0, 0} : mesh.x[0], hi = lo;
-    for (const auto& p : mesh.x)
-      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+    Point lo = active_nodes_.empty() ? Point{0, 0, 0} : mesh.x[active_nodes_[0]], hi = lo;
+    for (int node : active_nodes_)
+      for (int c = 0; c < 3; ++c)
+        lo[c] = std::min(lo[c], mesh.x[node][c]), hi[c] = std::max(hi[c], mesh.x[node][c]);
     element_size_ = std::cbrt((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) /
-                              std::max(1, mesh.n_elements()));
+                              std::max<size_t>(1, elements_.size()));
   }
-  groups_ = make_element_groups(mesh_, all_elements_, settings_.scatter);
+  groups_ = make_element_groups(mesh_, elements_, settings_.scatter);
   const int n = n_dofs();
   d_ = Vector("biofsi::structure_d", n);
   v_ = Vector("biofsi::structure_v", n);
   u_ = Vector("biofsi::structure_u", n);
   scratch_ = Vector("biofsi::structure_scratch", n);
-  matrix_ = make_sparsity(mesh_, all_elements_, 3);
+  matrix_ = make_sparsity(mesh_, elements_, 3);
   amg_ = std::make_unique<BoomerAmg>(amg_options(settings_.amg, mesh_));
 
   std::map<int, SpaceTimeFunction> by_dof;
@@ -168,9 +163,12 @@ StructureField::StructureField(const Mesh& mesh, const StructureSettings& settin
       for (int c = 0; c < 3; ++c)
         if (bc.value[c]) by_dof[3 * node + c] = bc.value[c];
   }
+  const SpaceTimeFunction zero = [](const Point&, double) { return 0.0; };
   if (settings_.plane_strain)
-    for (int node = 0; node < mesh_.n_nodes(); ++node)
-      by_dof[3 * node + 2] = [](const Point&, double) { return 0.0; };
+    for (int node = 0; node < mesh_.n_nodes(); ++node) by_dof[3 * node + 2] = zero;
+  for (int node = 0; node < mesh_.n_nodes(); ++node)
+    if (!active_node[node])
+      for (int c = 0; c < 3; ++c) by_dof[3 * node + c] = zero;
   Constraints fixed;
   for (const auto& [dof, f] : by_dof) {
     dirichlet_.emplace_back(dof, f);
@@ -284,10 +282,14 @@ void StructureField::prepare_step(double dt) {
 }
 
 void StructureField::residual(ConstVector u, Vector r) const {
+  residual_unconstrained(u, r);
+  constrained_residual(fixed_dofs_, fixed_values_, u, r);
+}
+
+void StructureField::residual_unconstrained(ConstVector u, Vector r) const {
   fill(r, 0);
   op_.residual(groups_, u, r);
   for (const auto& f : faces_) f.op.residual(u, r);
-  constrained_residual(fixed_dofs_, fixed_values_, u, r);
 }
 
 void StructureField::apply_tangent(ConstVector u, ConstVector du, Vector y) const {
@@ -318,9 +320,50 @@ void StructureField::setup_preconditioner(ConstVector u) {
     ScopedTimer t(stats_.seconds_assembly);
     assemble(u, true);
   }
+  setup_amg();
+}
+
+void StructureField::setup_amg() {
   ScopedTimer t(stats_.seconds_amg_setup);
   amg_->setup(matrix_);
   ++stats_.amg_setups;
+}
+
+void StructureField::precondition(ConstVector r, Vector z) const { amg_->apply(r, z); }
+
+void StructureField::set_reference_coordinates(const Mesh& moved) {
+  if (moved.n_nodes() != mesh_.n_nodes())
+    throw std::invalid_argument("structure: moved mesh has a different number of nodes");
+  mesh_.x = moved.x;
+  copy_coordinates_to_device(mesh_, dmesh_.x);
+}
+
+double StructureField::velocity_coefficient() const {
+  return settings_.quasi_static ? 0.0 : 1.0 / (settings_.theta * step_dt_);
+}
+
+void StructureField::begin_step(double dt) {
+  const bool static_now = settings_.quasi_static && dt == 0;  // equilibrium at the current time
+  if (!static_now && (!(dt > 0) || !std::isfinite(dt)))
+    throw SolveError("structure", "prepare", "time step must be positive and finite");
+  set_step_data(dt);
+  if (settings_.quasi_static)
+    fill(u_, 0);
+  else
+    axpby(dt, v_, 0.0, u_);
+  set_constrained(fixed_dofs_, fixed_values_, u_);
+}
+
+void StructureField::end_step(double dt) {
+  if (settings_.quasi_static) {
+    fill(v_, 0);
+  } else {
+    const double theta = settings_.theta;
+    axpby(1.0 / (theta * dt), u_, -(1 - theta) / theta, v_);
+  }
+  axpy(1.0, u_, d_);
+  time_ += dt;
+  ++stats_.steps;
 }
 
 double StructureField::kinetic_energy() const {
@@ -619,7 +662,6 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
     ScopedTimer t(stats_.seconds_solve);
     result = newton(sys, options);
   }
-  ++stats_.steps;
   stats_.newton_iterations += result.iterations;
   stats_.krylov_iterations += result.krylov_iterations;
   if (!result.converged || !all_finite(u_)) {
@@ -629,15 +671,7 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
     for (double r : result.residual_history) why << ' ' << r;
     throw SolveError("structure", label, why.str());
   }
-  // v_{n+1} = (u/dt - (1 - theta) v_n)/theta; d_{n+1} = d_n + u.
-  if (settings_.quasi_static) {
-    fill(v_, 0);
-  } else {
-    const double theta = settings_.theta;
-    axpby(1.0 / (theta * dt), u_, -(1 - theta) / theta, v_);
-  }
-  axpy(1.0, u_, d_);
-  time_ += dt;
+  end_step(dt);
   return result;
 }
 

@@ -55,7 +55,11 @@ enum class StructureAmg {
 };
 
 struct StructureSettings {
-  std::vector<StructureMaterial> materials;  // per block index of the mesh
+  // Per block index of the mesh; only the materials of active blocks are used (and checked).
+  std::vector<StructureMaterial> materials;
+  // Blocks that hold the structure (empty: all). The other blocks' nodes are held at rest, so the
+  // field can live on a mesh shared with the fluid (FSI) and keep that mesh's node numbers.
+  std::vector<std::string> blocks;
   bool quasi_static = false;
   double theta = 0.66;  // one-step-theta, in [0.5, 1]
   // Pseudo-2-D: hold the z displacement of every node at zero (plane strain on a one-element-thick
@@ -114,12 +118,40 @@ class StructureField {
   const StructureStats& stats() const { return stats_; }
   const Mesh& mesh() const { return mesh_; }
   const StructureSettings& settings() const { return settings_; }
+  // The blocks' elements and nodes (sorted).
+  const std::vector<int>& elements() const { return elements_; }
+  const std::vector<int>& active_nodes() const { return active_nodes_; }
 
+  // A growth step moved the reference configuration (total Lagrangian): take the new reference
+  // coordinates; displacement and velocity stay as nodal values relative to it.
+  void set_reference_coordinates(const Mesh& moved);
+
+  // ---- the pieces of a step, for a coupled (monolithic) solve that owns the Newton loop ----
+  // Sets up the step t -> t + dt (quasi-static: equilibrium under the data of t + dt; dt = 0 is
+  // allowed there, equilibrium at the current time) and predicts the increment: constant
+  // velocity (dynamics) or none (quasi-static), with the prescribed increments on the constrained
+  // dofs.
+  void begin_step(double dt);
+  // The increment u = d_{n+1} - d_n of the step being solved (read and written by the coupling).
+  Vector increment() { return u_; }
+  // Accepts the increment: v_{n+1}, d_{n+1}, t + dt.
+  void end_step(double dt);
+  // v_{n+1} = (u/dt - (1 - theta) v_n)/theta per unknown, as the time integrator defines it:
+  // dv_{n+1}/du = velocity_coefficient() (0 in quasi-static mode, where v = 0).
+  double velocity_coefficient() const;
+  ConstVector displacement_device() const { return d_; }
+  ConstVector velocity_device() const { return v_; }
+  // AMG on the current matrix() (after assemble(u, true) and any change the coupling made).
+  void setup_amg();
+  void precondition(ConstVector r, Vector z) const;
+  Kokkos::View<const char*, MemSpace> constrained_mask() const { return fixed_; }
   // Verification access: residual and tangent of the step being set up by prepare_step (the
   // unknown is the increment u = d_{n+1} - d_n), the assembled tangent (constrained rows and
   // columns eliminated when `constrained`), and the matrix-free diagonal.
   void prepare_step(double dt);
   void residual(ConstVector u, Vector r) const;
+  // Element and face terms on every dof, constrained ones included: there, the reaction.
+  void residual_unconstrained(ConstVector u, Vector r) const;
   void apply_tangent(ConstVector u, ConstVector du, Vector y) const;
   void diagonal(ConstVector u, Vector d) const;
   void assemble(ConstVector u, bool constrained);
@@ -135,12 +167,11 @@ class StructureField {
   double roundoff_floor() const;
   NewtonResult newton(const NewtonSystem& sys, const NewtonOptions& opt);
   void setup_preconditioner(ConstVector u);
-  void rebuild_amg();
 
   Mesh mesh_;
   StructureSettings settings_;
   DeviceMesh dmesh_;
-  std::vector<int> all_elements_;
+  std::vector<int> elements_, active_nodes_;
   ElementGroups groups_;
   NodalView aux_;  // [d_n, v_n, b]
   ElementOperator<StructurePhysics> op_;
