@@ -122,9 +122,9 @@ struct Problem {
     for (int i = 0; i < n_dofs; ++i) {
       const auto& p = mesh.x[i];
       ah(i, 0) = 0.5 + 0.25 * std::sin(3 * p[0]) * std::cos(2 * p[1]);
-      ah(i, 1) = p[1];
-      ah(i, 2) = 0.1 * std::sin(4 * p[0]);
-      ah(i, 3) = 0.2 * std::cos(3 * p[2]);
+      ah(i, 4) = p[1];
+      ah(i, 5) = 0.1 * std::sin(4 * p[0]);
+      ah(i, 6) = 0.2 * std::cos(3 * p[2]);
     }
     Kokkos::deep_copy(aux, ah);
     std::vector<int> all(mesh.n_elements());

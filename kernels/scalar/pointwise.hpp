@@ -4,7 +4,12 @@
 //
 // Weak form at one point, one-step-theta in time (theta = 1, inv_dt = 0 gives the steady problem):
 //   f0 = (phi - phi_n)/dt + theta (c.grad phi + R(phi)) + (1 - theta)(c.grad phi_n + R(phi_n)) - s
+//        + m (theta phi + (1 - theta) phi_n) div w                       (eq. 9, deforming solid)
 //   f1 = D (theta grad phi + (1 - theta) grad phi_n) + tau c f0          (SUPG)
+// In a block whose mesh moves with a deforming material (the biofilm under FSI), w is that
+// material's velocity and m = 1: the conservative term Phi div u_S of the paper's eq. (9), a
+// source where the solid is compressed and a sink where it dilates (c = 0 there, the mesh being
+// Lagrangian); m = 0 elsewhere.
 // f0 is the strong residual as well: the diffusive second derivatives, which vanish for Q1 on
 // affine elements, are neglected in the SUPG residual (standard for trilinear elements).
 // c is the ALE convective velocity u - u_grid, given per node; all terms are evaluated on the
@@ -24,6 +29,7 @@ struct TransportCoefficients {
   Real diffusivity[max_blocks] = {};
   Real monod_rate[max_blocks] = {};
   Real monod_half_saturation[max_blocks] = {};
+  Real material_motion[max_blocks] = {};  // 1: the Phi div w term of a deforming solid block
 };
 
 // Monod consumption R = k phi / (K + |phi|): for phi >= 0 the paper's kinetics; for phi < 0 the odd
@@ -67,16 +73,17 @@ KOKKOS_INLINE_FUNCTION Real supg_tau(const Real c[3], const Real metric[3][3], R
   return 1 / math::sqrt(inv2);
 }
 
-// Element physics. Auxiliary nodal data: [phi_n, c_x, c_y, c_z, s]; only phi_n needs a gradient.
+// Element physics. Auxiliary nodal data: [phi_n, w_x, w_y, w_z, c_x, c_y, c_z, s]; phi_n and the
+// material velocity w need gradients.
 struct TransportPhysics {
-  static constexpr int n_components = 1, n_aux = 5, n_aux_gradients = 1;
+  static constexpr int n_components = 1, n_aux = 8, n_aux_gradients = 4;
   TransportCoefficients coef;
   Real inv_dt = 0;  // 0: steady
   Real theta = 1;
   bool supg = true;
 
   struct Local {
-    Real D, k, K, tau, c[3];
+    Real D, k, K, tau, c[3], div_w;
   };
 
   KOKKOS_INLINE_FUNCTION Local local(const QpData<n_aux>& q) const {
@@ -84,8 +91,10 @@ struct TransportPhysics {
     l.D = coef.diffusivity[q.block];
     l.k = coef.monod_rate[q.block];
     l.K = coef.monod_half_saturation[q.block];
-    for (int i = 0; i < 3; ++i) l.c[i] = q.aux[1 + i];
+    for (int i = 0; i < 3; ++i) l.c[i] = q.aux[4 + i];
     l.tau = supg ? supg_tau(l.c, q.metric, l.D, inv_dt) : 0.0;
+    l.div_w =
+        coef.material_motion[q.block] * (q.grad_aux[1][0] + q.grad_aux[2][1] + q.grad_aux[3][2]);
     return l;
   }
 
@@ -107,7 +116,8 @@ struct TransportPhysics {
       conv_n += l.c[i] * g_n[i];
     }
     f0[0] = (u[0] - phi_n) * inv_dt + theta * (conv + reaction(l, u[0])) +
-            (1 - theta) * (conv_n + reaction(l, phi_n)) - q.aux[4];
+            (1 - theta) * (conv_n + reaction(l, phi_n)) - q.aux[7] +
+            (theta * u[0] + (1 - theta) * phi_n) * l.div_w;
     for (int i = 0; i < 3; ++i)
       f1[0][i] = l.D * (theta * gu[0][i] + (1 - theta) * g_n[i]) + l.tau * l.c[i] * f0[0];
   }
@@ -118,7 +128,8 @@ struct TransportPhysics {
     const Local l = local(q);
     Real conv = 0;
     for (int i = 0; i < 3; ++i) conv += l.c[i] * gdu[0][i];
-    df0[0] = du[0] * inv_dt + theta * (conv + reaction_derivative(l, u[0]) * du[0]);
+    df0[0] =
+        du[0] * inv_dt + theta * (conv + reaction_derivative(l, u[0]) * du[0] + l.div_w * du[0]);
     for (int i = 0; i < 3; ++i) df1[0][i] = l.D * theta * gdu[0][i] + l.tau * l.c[i] * df0[0];
   }
 };

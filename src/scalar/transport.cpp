@@ -14,36 +14,6 @@ namespace biofsi {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-// Accumulates the fenced wall time of a scope into `seconds`.
-class ScopedTimer {
- public:
-  explicit ScopedTimer(double& seconds) : seconds_(seconds), start_(Clock::now()) {}
-  ~ScopedTimer() {
-    Kokkos::fence();
-    seconds_ += std::chrono::duration<double>(Clock::now() - start_).count();
-  }
-
- private:
-  double& seconds_;
-  Clock::time_point start_;
-};
-
-Vector to_device_vector(const std::vector<double>& v, const std::string& label) {
-  Vector d(label, v.size());
-  auto h = Kokkos::create_mirror_view(d);
-  for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
-  Kokkos::deep_copy(d, h);
-  return d;
-}
-
-std::vector<double> to_host_vector(ConstVector d) {
-  auto h = Kokkos::create_mirror_view(d);
-  Kokkos::deep_copy(h, d);
-  return std::vector<double>(h.data(), h.data() + h.extent(0));
-}
-
 FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
   FaceView d("biofsi::faces", faces.size());
   auto h = Kokkos::create_mirror_view(d);
@@ -79,7 +49,7 @@ TransportField::TransportField(const Mesh& mesh, const TransportSettings& settin
       settings_(settings),
       dmesh_(to_device(mesh)),
       all_elements_(mesh.n_elements()),
-      aux_("biofsi::scalar_aux", mesh.n_nodes(), 5),
+      aux_("biofsi::scalar_aux", mesh.n_nodes(), TransportPhysics::n_aux),
       op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, TransportPhysics{}),
       amg_(settings.amg) {
   if (static_cast<int>(mesh.block_names.size()) > max_blocks)
@@ -141,9 +111,20 @@ void TransportField::set_convective_velocity(const std::vector<Point>& c) {
   has_convection_ = false;
   for (int n = 0; n < mesh_.n_nodes(); ++n)
     for (int d = 0; d < 3; ++d) {
-      h(n, 1 + d) = c[n][d];
+      h(n, 4 + d) = c[n][d];
       has_convection_ = has_convection_ || c[n][d] != 0.0;
     }
+  Kokkos::deep_copy(aux_, h);
+  preconditioner_current_ = false;
+}
+
+void TransportField::set_material_velocity(const std::vector<Point>& w) {
+  if (static_cast<int>(w.size()) != mesh_.n_nodes())
+    throw std::invalid_argument("material velocity has the wrong size");
+  auto h = Kokkos::create_mirror_view(aux_);
+  Kokkos::deep_copy(h, aux_);
+  for (int n = 0; n < mesh_.n_nodes(); ++n)
+    for (int d = 0; d < 3; ++d) h(n, 1 + d) = w[n][d];
   Kokkos::deep_copy(aux_, h);
   preconditioner_current_ = false;
 }
@@ -154,7 +135,7 @@ void TransportField::update_source(double t_eval) {
   if (!source_) return;
   std::vector<double> v(mesh_.n_nodes());
   for (int n = 0; n < mesh_.n_nodes(); ++n) v[n] = source_(mesh_.x[n], t_eval);
-  set_aux_column(aux_, 4, to_device_vector(v, "biofsi::source"));
+  set_aux_column(aux_, 7, to_device_vector(v, "biofsi::source"));
 }
 
 void TransportField::update_coordinates(const Mesh& mesh) {
@@ -265,10 +246,8 @@ NewtonResult TransportField::advance(const std::string& label, double abs_floor)
   sys.symmetric = !has_convection_;
   NewtonResult result;
   {
-    const auto start = Clock::now();
+    ScopedTimer t(stats_.seconds_solve);
     result = newton_solve(sys, phi_, options);
-    Kokkos::fence();
-    stats_.seconds_solve += std::chrono::duration<double>(Clock::now() - start).count();
   }
   ++stats_.steps;
   stats_.newton_iterations += result.iterations;

@@ -81,6 +81,9 @@ class TransportField {
   void set_solution(const std::vector<double>& phi);
   // Nodal ALE convective velocity c = u - u_grid (zero where not set).
   void set_convective_velocity(const std::vector<Point>& c);
+  // Velocity of the material in the blocks whose coefficients.material_motion is set (the
+  // biofilm deforming under FSI): its divergence enters as Phi div w (eq. 9).
+  void set_material_velocity(const std::vector<Point>& w);
   // Volumetric source s(x, t), evaluated at the nodes at t_{n+theta} of each step.
   void set_source(const SpaceTimeFunction& s);
   // The mesh has moved (ALE): take its current coordinates.
@@ -136,7 +139,7 @@ class TransportField {
   DeviceMesh dmesh_;
   std::vector<int> all_elements_;
   ElementGroups groups_;
-  NodalView aux_;  // [phi_n, c_x, c_y, c_z, s]
+  NodalView aux_;  // [phi_n, w_x, w_y, w_z, c_x, c_y, c_z, s]
   SpaceTimeFunction source_;
   ElementOperator<TransportPhysics> op_;
   std::vector<FaceTerm> faces_;

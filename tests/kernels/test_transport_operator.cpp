@@ -70,16 +70,21 @@ HostVector wiggly_field(const SmallMesh& m, double offset, double amplitude, dou
   });
 }
 
-// Auxiliary nodal data [phi_n, c_x, c_y, c_z]; `speed` 0 gives no convection.
-NodalView make_aux(const SmallMesh& m, const HostVector& phi_n, double speed) {
+// Auxiliary nodal data [phi_n, w_x, w_y, w_z, c_x, c_y, c_z, s (zero)]; `speed` 0 gives no
+// convection, `dilatation` 0 no material velocity (w, with div w of that size).
+NodalView make_aux(const SmallMesh& m, const HostVector& phi_n, double speed,
+                   double dilatation = 0.0) {
   NodalView aux(std::string("aux"), m.n_nodes(), TransportPhysics::n_aux);
   auto h = Kokkos::create_mirror_view(aux);
   for (int n = 0; n < m.n_nodes(); ++n) {
     const double x = m.x_host(n, 0), y = m.x_host(n, 1), z = m.x_host(n, 2);
     h(n, 0) = phi_n[n];
-    h(n, 1) = speed * (1.0 + 0.3 * std::sin(2.0 * y + z));
-    h(n, 2) = speed * (0.4 * std::cos(1.5 * x - z));
-    h(n, 3) = speed * (-0.25 + 0.2 * x * y);
+    h(n, 1) = dilatation * (x + 0.2 * std::sin(y));
+    h(n, 2) = dilatation * (0.5 * y * z - 0.3 * x);
+    h(n, 3) = dilatation * std::cos(x + z);
+    h(n, 4) = speed * (1.0 + 0.3 * std::sin(2.0 * y + z));
+    h(n, 5) = speed * (0.4 * std::cos(1.5 * x - z));
+    h(n, 6) = speed * (-0.25 + 0.2 * x * y);
   }
   Kokkos::deep_copy(aux, h);
   return aux;
@@ -365,12 +370,15 @@ TEST(TransportTangent, MatchesFiniteDifferenceOfSupgResidual) {
   EXPECT_LT(relative_difference(jv, central_difference(supg_residual, u, v, 1e-6)), 1e-6);
 }
 
+// With every term on, including the Phi div w of a deforming solid in block 1 (eq. 9).
 TEST(TransportTangent, MatchesFiniteDifferenceOfFullTransientResidual) {
   const SmallMesh m = test_mesh();
   const HostVector u = wiggly_field(m, 0.2, 0.4, 0.0);
   const HostVector phi_n = wiggly_field(m, 0.35, 0.4, 1.0);
   const HostVector v = wiggly_field(m, 0.1, 1.0, 2.3);
-  const TransportOperator op(m.conn, m.x, m.block, make_aux(m, phi_n, 1.0), full_physics(0.05));
+  TransportPhysics p = full_physics(0.05);
+  p.coef.material_motion[1] = 1;
+  const TransportOperator op(m.conn, m.x, m.block, make_aux(m, phi_n, 1.0, 0.5), p);
   const auto groups = biofsi::test::element_groups(m, Scatter::Atomic);
   const HostVector fd =
       central_difference([&](const HostVector& w) { return residual(op, groups, w); }, u, v, 1e-6);
