@@ -1,0 +1,955 @@
+#include "coupling/fsi.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "kernels/core/constraints.hpp"
+
+namespace biofsi {
+
+namespace {
+
+using Range = std::pair<int, int>;
+
+// The columns of a CSR matrix that belong to condensed dofs, for the rows of free dofs, as a
+// matrix of their own (rows of the source, columns renumbered); values are refreshed from the
+// source through the stored positions, so the pattern is searched once.
+struct CouplingBlock {
+  CsrMatrix m;
+  Kokkos::View<int*, MemSpace> position;  // index of each entry in the source's val
+
+  void refresh(const CsrMatrix& source) {
+    auto pos = position;
+    auto val = m.val;
+    auto src = source.val;
+    Kokkos::parallel_for(
+        "biofsi::coupling_refresh", Kokkos::RangePolicy<ExecSpace>(0, pos.extent(0)),
+        KOKKOS_LAMBDA(int k) { val(k) = src(pos(k)); });
+  }
+};
+
+// row_of[r] >= 0: source row r becomes that row (of n_rows); column_of[c] >= 0: source column c
+// becomes that column. Entries outside both maps are dropped.
+CouplingBlock make_coupling(const CsrMatrix& source, const std::vector<int>& row_of,
+                            const std::vector<int>& column_of, int n_rows) {
+  auto rp = Kokkos::create_mirror_view_and_copy(HostSpace(), source.row_ptr);
+  auto col = Kokkos::create_mirror_view_and_copy(HostSpace(), source.col);
+  std::vector<int> source_row(n_rows, -1);
+  for (int r = 0; r < source.n_rows; ++r)
+    if (row_of[r] >= 0) source_row[row_of[r]] = r;
+  std::vector<int> row_ptr{0}, cols, pos;
+  for (int t = 0; t < n_rows; ++t) {
+    const int r = source_row[t];
+    if (r >= 0)
+      for (int k = rp(r); k < rp(r + 1); ++k)
+        if (column_of[col(k)] >= 0) {
+          cols.push_back(column_of[col(k)]);
+          pos.push_back(k);
+        }
+    row_ptr.push_back(static_cast<int>(cols.size()));
+  }
+  CouplingBlock b;
+  b.m.n_rows = n_rows;
+  b.m.row_ptr = Kokkos::View<int*, MemSpace>("biofsi::coupling_row_ptr", row_ptr.size());
+  b.m.col = Kokkos::View<int*, MemSpace>("biofsi::coupling_col", cols.size());
+  b.m.val = Kokkos::View<Real*, MemSpace>("biofsi::coupling_val", cols.size());
+  b.position = Kokkos::View<int*, MemSpace>("biofsi::coupling_pos", pos.size());
+  auto h_rp = Kokkos::create_mirror_view(b.m.row_ptr);
+  auto h_col = Kokkos::create_mirror_view(b.m.col);
+  auto h_pos = Kokkos::create_mirror_view(b.position);
+  for (size_t i = 0; i < row_ptr.size(); ++i) h_rp(i) = row_ptr[i];
+  for (size_t i = 0; i < cols.size(); ++i) {
+    h_col(i) = cols[i];
+    h_pos(i) = pos[i];
+  }
+  Kokkos::deep_copy(b.m.row_ptr, h_rp);
+  Kokkos::deep_copy(b.m.col, h_col);
+  Kokkos::deep_copy(b.position, h_pos);
+  return b;
+}
+
+std::vector<char> host_mask(Kokkos::View<const char*, MemSpace> m) {
+  auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), m);
+  return std::vector<char>(h.data(), h.data() + h.extent(0));
+}
+
+Kokkos::View<char*, MemSpace> device_mask(const std::vector<char>& m, const std::string& label) {
+  Kokkos::View<char*, MemSpace> d(label, m.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < m.size(); ++i) h(i) = m[i];
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+IndexView device_indices(const std::vector<int>& v, const std::string& label) {
+  IndexView d(label, v.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+// y -= alpha A x
+void subtract_product(const CsrMatrix& a, Real alpha, ConstVector x, Vector y) {
+  auto rp = a.row_ptr;
+  auto col = a.col;
+  auto val = a.val;
+  Kokkos::parallel_for(
+      "biofsi::coupling_apply", Kokkos::RangePolicy<ExecSpace>(0, a.n_rows), KOKKOS_LAMBDA(int r) {
+        Real s = 0;
+        for (int k = rp(r); k < rp(r + 1); ++k) s += val(k) * x(col(k));
+        y(r) -= alpha * s;
+      });
+}
+
+double max_abs(ConstVector v) {
+  double m = 0;
+  Kokkos::parallel_reduce(
+      "biofsi::max_abs", Kokkos::RangePolicy<ExecSpace>(0, v.extent(0)),
+      KOKKOS_LAMBDA(int i, double& acc) {
+        const double a = v(i) < 0 ? -v(i) : v(i);
+        if (a > acc) acc = a;
+      },
+      Kokkos::Max<double>(m));
+  return m;
+}
+
+}  // namespace
+
+struct FsiProblem::Impl {
+  FluidField& fluid;
+  StructureField& structure;
+  FsiSettings settings;
+  int nn;
+  Range s_range, f_range, g_range;
+  std::vector<char> structure_node;  // host: node of the structure's blocks
+  IndexView interface;               // interface nodes
+  Kokkos::View<char*, MemSpace> interface_node;
+  Kokkos::View<const char*, MemSpace> structure_fixed, fluid_fixed;
+
+  // The fluid mesh: pseudo-elasticity on the reference coordinates.
+  CoordView x_ref, x_work;
+  ElementGroups mesh_groups;
+  ElementOperator<PseudoElasticPhysics> mesh_op;
+  IndexView mesh_fixed_dofs;  // walls and nodes outside the fluid, not the interface
+  Vector mesh_fixed_values;
+  Kokkos::View<char*, MemSpace> mesh_eliminated;  // fixed or condensed
+  CsrMatrix mesh_matrix;
+  BoomerAmg mesh_amg;
+  CouplingBlock mesh_coupling;   // free mesh rows x condensed mesh columns (= structure dofs)
+  CouplingBlock fluid_coupling;  // free fluid rows x condensed velocity columns
+  CouplingBlock force_coupling;  // interface momentum rows (structure rows) x free fluid columns
+  double fd_length = 1;          // smallest fluid element size, for the shape-derivative step
+
+  // The solve being set up: u_F = a s + b on Γ, grid velocity (d_G - d_G,n) inv_dt.
+  double a = 0, inv_dt = 0;
+  Vector b, g_old, g_now, grid_velocity;
+  // Work vectors.
+  Vector xs, dxs, r_base, f_work, g_dir, pre_work;
+  Vector xs_lin;  // the synced state the Jacobian is taken at
+
+  Impl(const Mesh& mesh, FluidField& f, StructureField& s, const FsiSettings& st)
+      : fluid(f),
+        structure(s),
+        settings(st),
+        nn(mesh.n_nodes()),
+        s_range(0, 3 * nn),
+        f_range(3 * nn, 7 * nn),
+        g_range(7 * nn, 10 * nn),
+        mesh_op(ConstConnView{}, ConstCoordView{}, ConstIndexView{}, ConstNodalView{},
+                PseudoElasticPhysics{}),
+        mesh_amg([] {
+          AmgOptions o;
+          o.num_functions = 3;
+          o.nodal_coarsening = true;
+          return o;
+        }()) {}
+
+  Vector part(Vector v, Range r) const { return Kokkos::subview(v, r); }
+  ConstVector part(ConstVector v, Range r) const { return Kokkos::subview(v, r); }
+};
+
+FsiProblem::FsiProblem(const Mesh& mesh, FluidField& fluid, StructureField& structure,
+                       const FsiSettings& settings)
+    : impl_(std::make_unique<Impl>(mesh, fluid, structure, settings)), n_nodes_(mesh.n_nodes()) {
+  Impl& m = *impl_;
+  const int nn = n_nodes_;
+  if (fluid.mesh().n_nodes() != nn || structure.mesh().n_nodes() != nn)
+    throw std::invalid_argument("fsi: fluid, structure and coupling must share one mesh");
+  if (!mesh.node_sets.count(settings.interface))
+    throw std::invalid_argument("fsi: the mesh has no interface node set '" + settings.interface +
+                                "'");
+  const std::vector<int>& gamma = mesh.node_sets.at(settings.interface);
+  m.structure_node.assign(nn, 0);
+  for (int n : structure.active_nodes()) m.structure_node[n] = 1;
+  std::vector<char> fluid_node(nn, 0), on_gamma(nn, 0);
+  for (int e : fluid.elements())
+    for (int a : mesh.conn[e]) fluid_node[a] = 1;
+  const std::vector<char> fluid_fixed = host_mask(fluid.constrained_mask());
+  for (int n : gamma) {
+    if (!m.structure_node[n] || !fluid_node[n])
+      throw std::invalid_argument("fsi: interface node " + std::to_string(n) + " of '" +
+                                  settings.interface +
+                                  "' is not shared by the structure and the fluid");
+    for (int c = 0; c < 3; ++c)
+      if (!fluid_fixed[4 * n + c])
+        throw std::invalid_argument(
+            "fsi: the fluid needs a no_slip (velocity) condition on the "
+            "interface '" +
+            settings.interface + "': its velocity there is condensed");
+    on_gamma[n] = 1;
+  }
+  m.interface = device_indices(gamma, "biofsi::fsi_interface");
+  m.interface_node = device_mask(on_gamma, "biofsi::fsi_interface_mask");
+  m.structure_fixed = structure.constrained_mask();
+  m.fluid_fixed = fluid.constrained_mask();
+
+  // Coupling patterns of the fluid Jacobian: free fluid rows x condensed velocity columns (as
+  // structure dofs), and interface momentum rows (as structure rows) x free fluid columns.
+  {
+    const std::vector<char> structure_fixed = host_mask(structure.constrained_mask());
+    std::vector<int> free_rows(4 * nn, -1), velocity_columns(4 * nn, -1), gamma_rows(4 * nn, -1),
+        free_columns(4 * nn, -1);
+    for (int i = 0; i < 4 * nn; ++i)
+      if (!fluid_fixed[i]) free_rows[i] = free_columns[i] = i;
+    for (int n : gamma)
+      for (int c = 0; c < 3; ++c) {
+        velocity_columns[4 * n + c] = 3 * n + c;
+        if (!structure_fixed[3 * n + c]) gamma_rows[4 * n + c] = 3 * n + c;
+      }
+    m.fluid_coupling = make_coupling(fluid.matrix(), free_rows, velocity_columns, 4 * nn);
+    m.force_coupling = make_coupling(fluid.matrix(), gamma_rows, free_columns, 3 * nn);
+  }
+
+  // The fluid mesh's constraints: walls and every non-fluid node, except the condensed interface.
+  {
+    MeshDisplacementBc walls = wall_constraints(mesh, settings.fixed_walls, settings.sliding_walls);
+    for (int n = 0; n < nn; ++n)
+      if (!fluid_node[n]) walls.fix({n}, {true, true, true});
+    Constraints fixed;
+    std::vector<char> eliminated(3 * nn, 0);
+    for (const auto& [node, mask] : walls.fixed)
+      for (int c = 0; c < 3; ++c)
+        if (mask[c] && !on_gamma[node]) {
+          fixed.add(3 * node + c, 0.0);
+          eliminated[3 * node + c] = 1;
+        }
+    for (int n : gamma)
+      for (int c = 0; c < 3; ++c) eliminated[3 * n + c] = 1;
+    m.mesh_fixed_dofs = fixed.dofs();
+    m.mesh_fixed_values = fixed.values();
+    m.mesh_eliminated = device_mask(eliminated, "biofsi::fsi_mesh_eliminated");
+  }
+  m.mesh_groups = make_element_groups(mesh, fluid.elements(), settings.mesh_motion.scatter);
+  m.mesh_matrix = make_sparsity(mesh, fluid.elements(), 3);
+  {
+    const DeviceMesh dm = to_device(mesh);
+    m.x_ref = dm.x;
+    m.x_work = CoordView("biofsi::fsi_x", nn);
+    const double nu = settings.mesh_motion.poisson_ratio;
+    PseudoElasticPhysics p;
+    p.lambda = nu / ((1 + nu) * (1 - 2 * nu));
+    p.mu = 1 / (2 * (1 + nu));
+    p.stiffening = settings.mesh_motion.stiffening;
+    m.mesh_op =
+        ElementOperator<PseudoElasticPhysics>(dm.conn, dm.x, dm.element_block, ConstNodalView{}, p);
+  }
+  m.b = Vector("biofsi::fsi_b", 3 * nn);
+  m.g_old = Vector("biofsi::fsi_g_old", 3 * nn);
+  m.g_now = Vector("biofsi::fsi_g", 3 * nn);
+  m.grid_velocity = Vector("biofsi::fsi_grid_velocity", 3 * nn);
+  m.xs = Vector("biofsi::fsi_xs", n_dofs());
+  m.dxs = Vector("biofsi::fsi_dxs", n_dofs());
+  m.xs_lin = Vector("biofsi::fsi_xs_lin", n_dofs());
+  m.r_base = Vector("biofsi::fsi_r_base", 4 * nn);
+  m.f_work = Vector("biofsi::fsi_f_work", 4 * nn);
+  m.g_dir = Vector("biofsi::fsi_g_dir", 3 * nn);
+  m.pre_work = Vector("biofsi::fsi_pre_work", n_dofs());
+  x_ = Vector("biofsi::fsi_x", n_dofs());
+  set_reference(mesh);
+}
+
+FsiProblem::~FsiProblem() = default;
+
+void FsiProblem::set_reference(const Mesh& mesh) {
+  Impl& m = *impl_;
+  copy_coordinates_to_device(mesh, m.x_ref);
+  m.structure.set_reference_coordinates(mesh);
+  // The smallest fluid element edge, for the size of the finite-difference shape perturbation.
+  double h_min = std::numeric_limits<double>::infinity();
+  for (int e : m.fluid.elements()) {
+    const auto& c = mesh.conn[e];
+    for (int k = 0; k < 3; ++k) {
+      const int nb = k == 0 ? 1 : (k == 1 ? 3 : 4);  // VTK: edges 0-1 (x), 0-3 (y), 0-4 (z)
+      double l = 0;
+      for (int d = 0; d < 3; ++d) l += std::pow(mesh.x[c[nb]][d] - mesh.x[c[0]][d], 2);
+      h_min = std::min(h_min, std::sqrt(l));
+    }
+  }
+  m.fd_length = std::isfinite(h_min) && h_min > 0 ? h_min : 1.0;
+  // The fluid mesh's matrix on the new reference, its coupling columns, then the elimination.
+  {
+    ScopedTimer t(stats_.seconds_assembly);
+    fill(m.mesh_matrix.val, 0);
+    m.mesh_op.assemble(m.mesh_groups, Vector("biofsi::zero", 3 * n_nodes_), m.mesh_matrix);
+  }
+  {
+    const std::vector<char> eliminated = host_mask(m.mesh_eliminated);
+    std::vector<int> row_of(3 * n_nodes_, -1), column_of(3 * n_nodes_, -1);
+    for (int i = 0; i < 3 * n_nodes_; ++i)
+      if (!eliminated[i]) row_of[i] = i;
+    for (int n : mesh.node_sets.at(m.settings.interface))
+      for (int c = 0; c < 3; ++c) column_of[3 * n + c] = 3 * n + c;
+    m.mesh_coupling = make_coupling(m.mesh_matrix, row_of, column_of, 3 * n_nodes_);
+    m.mesh_coupling.refresh(m.mesh_matrix);
+  }
+  csr_eliminate_constrained(m.mesh_matrix, m.mesh_eliminated);
+  {
+    ScopedTimer t(stats_.seconds_preconditioner_setup);
+    m.mesh_amg.setup(m.mesh_matrix);
+  }
+  // The fluid sees the new reference moved by the fluid mesh displacement it had.
+  auto x = m.x_work;
+  auto x0 = m.x_ref;
+  auto g = m.g_now;
+  Kokkos::parallel_for(
+      "biofsi::fsi_geometry", Kokkos::RangePolicy<ExecSpace>(0, n_nodes_), KOKKOS_LAMBDA(int n) {
+        for (int d = 0; d < 3; ++d) x(n, d) = x0(n, d) + g(3 * n + d);
+      });
+  fill(m.grid_velocity, 0);
+  m.fluid.set_geometry(m.x_work, m.grid_velocity);
+  m.fluid.sync_host_coordinates();
+}
+
+namespace {
+
+// xs = x with the condensed entries recomputed from the structure's: u_F = a s + b, d_G = d_n + s.
+void sync_state(const FsiProblem::Impl& m, ConstVector x, Vector xs, ConstVector d_n) {
+  copy(x, xs);
+  const int nn = m.nn;
+  auto iface = m.interface;
+  const double a = m.a;
+  auto b = m.b;
+  Kokkos::parallel_for(
+      "biofsi::fsi_sync", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)), KOKKOS_LAMBDA(int i) {
+        const int n = iface(i);
+        for (int c = 0; c < 3; ++c) {
+          const Real s = xs(3 * n + c);
+          xs(3 * nn + 4 * n + c) = a * s + b(3 * n + c);
+          xs(7 * nn + 3 * n + c) = d_n(3 * n + c) + s;
+        }
+      });
+}
+
+// The same for a direction: du_F = a ds, dd_G = ds.
+void sync_direction(const FsiProblem::Impl& m, ConstVector dx, Vector dxs) {
+  copy(dx, dxs);
+  const int nn = m.nn;
+  auto iface = m.interface;
+  const double a = m.a;
+  Kokkos::parallel_for(
+      "biofsi::fsi_sync_direction", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
+      KOKKOS_LAMBDA(int i) {
+        const int n = iface(i);
+        for (int c = 0; c < 3; ++c) {
+          const Real s = dxs(3 * n + c);
+          dxs(3 * nn + 4 * n + c) = a * s;
+          dxs(7 * nn + 3 * n + c) = s;
+        }
+      });
+}
+
+// x_work = x_ref + g, grid velocity (g - g_old) inv_dt, handed to the fluid.
+void move_fluid_mesh(FsiProblem::Impl& m, ConstVector g) {
+  auto x = m.x_work;
+  auto x0 = m.x_ref;
+  auto ug = m.grid_velocity;
+  auto g_old = m.g_old;
+  const double inv_dt = m.inv_dt;
+  Kokkos::parallel_for(
+      "biofsi::fsi_move_mesh", Kokkos::RangePolicy<ExecSpace>(0, m.nn), KOKKOS_LAMBDA(int n) {
+        for (int d = 0; d < 3; ++d) {
+          x(n, d) = x0(n, d) + g(3 * n + d);
+          ug(3 * n + d) = (g(3 * n + d) - g_old(3 * n + d)) * inv_dt;
+        }
+      });
+  m.fluid.set_geometry(m.x_work, m.grid_velocity);
+}
+
+// Interface force: the fluid's interface momentum rows added to the structure's free rows.
+void add_interface_rows(const FsiProblem::Impl& m, ConstVector fluid_rows, Vector structure_rows) {
+  auto iface = m.interface;
+  auto fixed = m.structure_fixed;
+  Kokkos::parallel_for(
+      "biofsi::fsi_interface_force", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
+      KOKKOS_LAMBDA(int i) {
+        const int n = iface(i);
+        for (int c = 0; c < 3; ++c)
+          if (!fixed(3 * n + c)) structure_rows(3 * n + c) += fluid_rows(4 * n + c);
+      });
+}
+
+// Condensed rows: identity in the tangent (y = dx) or zero residual (dx = 0).
+void condensed_rows(const FsiProblem::Impl& m, ConstVector from, Vector y_fluid, Vector y_mesh,
+                    bool zero) {
+  auto iface = m.interface;
+  const int nn = m.nn;
+  Kokkos::parallel_for(
+      "biofsi::fsi_condensed_rows", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
+      KOKKOS_LAMBDA(int i) {
+        const int n = iface(i);
+        for (int c = 0; c < 3; ++c) {
+          y_fluid(4 * n + c) = zero ? 0.0 : from(3 * nn + 4 * n + c);
+          y_mesh(3 * n + c) = zero ? 0.0 : from(7 * nn + 3 * n + c);
+        }
+      });
+}
+
+// The condensed velocity entries of a fluid direction, from the structure's.
+void set_condensed_velocity(const FsiProblem::Impl& m, ConstVector ds, Vector df) {
+  auto iface = m.interface;
+  const double a = m.a;
+  Kokkos::parallel_for(
+      "biofsi::fsi_condensed_velocity", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
+      KOKKOS_LAMBDA(int i) {
+        const int n = iface(i);
+        for (int c = 0; c < 3; ++c) df(4 * n + c) = a * ds(3 * n + c);
+      });
+}
+
+}  // namespace
+
+void FsiProblem::residual(ConstVector x, Vector r) {
+  Impl& m = *impl_;
+  ScopedTimer t(stats_.seconds_residual);
+  sync_state(m, x, m.xs, m.structure.displacement_device());
+  const ConstVector s = m.part(ConstVector(m.xs), m.s_range),
+                    f = m.part(ConstVector(m.xs), m.f_range),
+                    g = m.part(ConstVector(m.xs), m.g_range);
+  Vector rs = m.part(r, m.s_range), rf = m.part(r, m.f_range), rg = m.part(r, m.g_range);
+  move_fluid_mesh(m, g);
+  m.structure.residual(s, rs);
+  m.fluid.residual_unconstrained(f, rf);
+  add_interface_rows(m, rf, rs);
+  constrained_residual(m.fluid.constrained_dofs(), m.fluid.constrained_values(), f, rf);
+  fill(rg, 0);
+  m.mesh_op.residual(m.mesh_groups, g, rg);
+  constrained_residual(m.mesh_fixed_dofs, m.mesh_fixed_values, g, rg);
+  condensed_rows(m, x, rf, rg, true);
+}
+
+namespace {
+
+// y = J dx at the state the caller synced into m.xs_lin (fluid mesh already placed there), with
+// the unconstrained fluid residual there in m.r_base when shape derivatives are on.
+void apply_jacobian(FsiProblem::Impl& m, FsiStats& stats, ConstVector dx, Vector y) {
+  ScopedTimer t(stats.seconds_tangent);
+  const ConstVector xl = m.xs_lin;
+  const ConstVector s = m.part(xl, m.s_range), f = m.part(xl, m.f_range), g = m.part(xl, m.g_range);
+  sync_direction(m, dx, m.dxs);
+  Vector ds = m.part(m.dxs, m.s_range), df = m.part(m.dxs, m.f_range),
+         dg = m.part(m.dxs, m.g_range);
+  Vector ys = m.part(y, m.s_range), yf = m.part(y, m.f_range), yg = m.part(y, m.g_range);
+  m.structure.apply_tangent(s, ds, ys);
+  // Fluid: the direction without its constrained entries, except the condensed velocities.
+  zero_constrained(m.fluid.constrained_dofs(), df);
+  set_condensed_velocity(m, ds, df);
+  m.fluid.tangent_unconstrained(f, df, yf);
+  // Fluid mesh: the direction without its fixed entries (the condensed ones are ds).
+  zero_constrained(m.mesh_fixed_dofs, dg);
+  if (m.settings.shape_derivatives == ShapeDerivatives::FiniteDifference) {
+    const double dg_max = max_abs(dg);
+    if (dg_max > 0) {
+      ScopedTimer ts(stats.seconds_shape);
+      // A step that moves the nodes by 1e-7 of the smallest element: truncation ~1e-7, round-off
+      // ~eps/1e-7 ~ 2e-9 of the derivative.
+      const double h = 1e-7 * m.fd_length / dg_max;
+      copy(g, m.g_dir);
+      axpy(h, dg, m.g_dir);
+      move_fluid_mesh(m, m.g_dir);
+      m.fluid.residual_unconstrained(f, m.f_work);
+      axpy(-1.0, m.r_base, m.f_work);
+      axpy(1.0 / h, m.f_work, yf);
+      move_fluid_mesh(m, g);
+    }
+  }
+  add_interface_rows(m, yf, ys);
+  copy_constrained(m.fluid.constrained_dofs(), m.part(dx, m.f_range), yf);
+  fill(yg, 0);
+  m.mesh_op.apply_tangent(m.mesh_groups, g, dg, yg);
+  copy_constrained(m.mesh_fixed_dofs, m.part(dx, m.g_range), yg);
+  condensed_rows(m, dx, yf, yg, false);
+}
+
+// Takes the Jacobian at x: synced state, fluid mesh, base residual for the shape derivative.
+void linearise(FsiProblem::Impl& m, ConstVector x) {
+  sync_state(m, x, m.xs_lin, m.structure.displacement_device());
+  move_fluid_mesh(m, m.part(ConstVector(m.xs_lin), m.g_range));
+  if (m.settings.shape_derivatives == ShapeDerivatives::FiniteDifference)
+    m.fluid.residual_unconstrained(m.part(ConstVector(m.xs_lin), m.f_range), m.r_base);
+}
+
+// S += a F_ΓΓ: the fluid's interface velocity block, condensed into the structure's rows.
+void condense_fluid_block(const FsiProblem::Impl& m, const CsrMatrix& fluid,
+                          const CsrMatrix& structure) {
+  auto iface = m.interface;
+  auto on_gamma = m.interface_node;
+  auto fixed = m.structure_fixed;
+  const double a = m.a;
+  auto frp = fluid.row_ptr;
+  auto fcol = fluid.col;
+  auto fval = fluid.val;
+  auto srp = structure.row_ptr;
+  auto scol = structure.col;
+  auto sval = structure.val;
+  Kokkos::parallel_for(
+      "biofsi::fsi_condense", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
+      KOKKOS_LAMBDA(int i) {
+        const int n = iface(i);
+        for (int c = 0; c < 3; ++c) {
+          const int row = 3 * n + c;
+          if (fixed(row)) continue;
+          const int fr = 4 * n + c;
+          for (int k = frp(fr); k < frp(fr + 1); ++k) {
+            const int node = fcol(k) / 4, comp = fcol(k) % 4;
+            if (comp == 3 || !on_gamma(node) || fixed(3 * node + comp)) continue;
+            const int kk = csr_find(srp.data(), scol.data(), row, 3 * node + comp);
+            if (kk >= 0) sval(kk) += a * fval(k);
+          }
+        }
+      });
+}
+
+void setup_preconditioner(FsiProblem::Impl& m, FsiStats& stats) {
+  const ConstVector xl = m.xs_lin;
+  const CsrMatrix* fluid_matrix = nullptr;
+  {
+    ScopedTimer t(stats.seconds_assembly);
+    m.structure.assemble(m.part(xl, m.s_range), true);
+    fluid_matrix = &m.fluid.assemble_jacobian(m.part(xl, m.f_range), false);
+    if (m.a != 0) {
+      condense_fluid_block(m, *fluid_matrix, m.structure.matrix());
+      m.fluid_coupling.refresh(*fluid_matrix);
+    }
+    m.force_coupling.refresh(*fluid_matrix);
+    csr_eliminate_constrained(*fluid_matrix, m.fluid_fixed);
+  }
+  ScopedTimer t(stats.seconds_preconditioner_setup);
+  m.structure.setup_amg();
+  m.fluid.setup_preconditioner_on_matrix();
+}
+
+// A block's approximate inverse: a few Krylov iterations on its assembled matrix (cheap CSR
+// products) preconditioned by the field's own AMG, to a loose relative tolerance; or, with
+// inner_tolerance = 0, the field's preconditioner applied once.
+void block_solve(const CsrMatrix& a, const ApplyFn& field_preconditioner, bool spd, double tol,
+                 int max_iterations, ConstVector rhs, Vector z, int& iterations, double& seconds) {
+  ScopedTimer timer(seconds);
+  if (tol <= 0) {
+    field_preconditioner(rhs, z);
+    ++iterations;
+    return;
+  }
+  KrylovOptions k;
+  k.rel_tol = tol;
+  k.max_iterations = max_iterations;
+  k.restart = max_iterations;
+  fill(z, 0);
+  const ApplyFn apply = [&a](ConstVector x, Vector y) { csr_multiply(a, x, y); };
+  const KrylovResult r = spd ? cg(apply, field_preconditioner, rhs, z, k)
+                             : fgmres(apply, field_preconditioner, rhs, z, k);
+  iterations += r.iterations;
+}
+
+// One block Gauss-Seidel sweep: fluid first (the interface moving as the residual says), then the
+// structure under the fluid force that correction causes, then the fluid mesh following the
+// structure. Left out: the fluid's dependence on the structure's motion (the interface velocity
+// a F_IΓ, partly condensed into the structure block, and the shape derivatives).
+void apply_preconditioner(FsiProblem::Impl& m, FsiStats& stats, ConstVector r, Vector z) {
+  ScopedTimer t(stats.seconds_preconditioner);
+  Vector zs = m.part(z, m.s_range), zf = m.part(z, m.f_range), zg = m.part(z, m.g_range);
+  Vector rs = m.part(m.pre_work, m.s_range), rg = m.part(m.pre_work, m.g_range);
+  const FsiSettings& st = m.settings;
+  const double tol = st.inner_tolerance;
+  const int max_it = st.inner_max_iterations;
+  block_solve(
+      m.fluid.matrix(), [&m](ConstVector x, Vector y) { m.fluid.precondition(x, y); }, false, tol,
+      max_it, m.part(r, m.f_range), zf, stats.inner_iterations[1], stats.seconds_inner[1]);
+  copy(m.part(r, m.s_range), rs);
+  subtract_product(m.force_coupling.m, 1.0, zf, rs);
+  block_solve(
+      m.structure.matrix(), [&m](ConstVector x, Vector y) { m.structure.precondition(x, y); },
+      false, tol, max_it, rs, zs, stats.inner_iterations[0], stats.seconds_inner[0]);
+  copy(m.part(r, m.g_range), rg);
+  subtract_product(m.mesh_coupling.m, 1.0, zs, rg);
+  block_solve(
+      m.mesh_matrix, [&m](ConstVector x, Vector y) { m.mesh_amg.apply(x, y); }, true, tol, max_it,
+      rg, zg, stats.inner_iterations[2], stats.seconds_inner[2]);
+}
+
+}  // namespace
+
+void FsiProblem::tangent(ConstVector x, ConstVector dx, Vector y) {
+  linearise(*impl_, x);
+  apply_jacobian(*impl_, stats_, dx, y);
+}
+
+void FsiProblem::prepare_step(double dt) {
+  Impl& m = *impl_;
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw SolveError("fsi", "prepare", "time step must be positive and finite");
+  m.structure.begin_step(dt);
+  m.fluid.begin_step(dt);
+  m.inv_dt = 1.0 / dt;
+  if (m.structure.settings().quasi_static) {
+    m.a = 1.0 / dt;
+    fill(m.b, 0);
+  } else {
+    const double theta = m.structure.settings().theta;
+    m.a = m.structure.velocity_coefficient();
+    axpby(-(1 - theta) / theta, m.structure.velocity_device(), 0.0, m.b);
+  }
+  copy(m.g_now, m.g_old);
+  copy(m.structure.increment(), m.part(x_, m.s_range));
+  copy(m.fluid.state(), m.part(x_, m.f_range));
+  copy(m.g_now, m.part(x_, m.g_range));
+}
+
+void FsiProblem::prepare_steady() {
+  Impl& m = *impl_;
+  if (!m.structure.settings().quasi_static)
+    throw std::invalid_argument("fsi: a steady coupled solve needs a quasi-static structure");
+  m.structure.begin_step(0.0);
+  m.fluid.begin_steady();
+  m.inv_dt = 0;
+  m.a = 0;
+  fill(m.b, 0);
+  copy(m.g_now, m.g_old);
+  copy(m.structure.increment(), m.part(x_, m.s_range));
+  copy(m.fluid.state(), m.part(x_, m.f_range));
+  copy(m.g_now, m.part(x_, m.g_range));
+}
+
+namespace {
+
+// The residual of each field is a sum of terms of size ~ |J_kk x_k| that cancel at the solution;
+// their round-off (~eps of their size, times the number of element contributions summed) is a
+// floor below which no Newton iteration can go. Measured on the fluid mesh, whose Jacobian-based
+// stiffening scales its entries by 1/det J ~ 1e4 on small elements: it stagnates at ~1e-14 where
+// its relative tolerance asked for 4e-16. 1e4 eps, as the structure field uses.
+std::array<double, 3> roundoff_floors(const FsiProblem::Impl& m) {
+  const CsrMatrix* matrices[3] = {&m.structure.matrix(), &m.fluid.matrix(), &m.mesh_matrix};
+  const Range ranges[3] = {m.s_range, m.f_range, m.g_range};
+  std::array<double, 3> floors{};
+  for (int i = 0; i < 3; ++i) {
+    Vector d("biofsi::fsi_diag", matrices[i]->n_rows);
+    csr_diagonal(*matrices[i], d);
+    const ConstVector x = m.part(ConstVector(m.xs_lin), ranges[i]);
+    double sum = 0;
+    Kokkos::parallel_reduce(
+        "biofsi::fsi_floor", Kokkos::RangePolicy<ExecSpace>(0, d.extent(0)),
+        KOKKOS_LAMBDA(int k, double& acc) {
+          const double t = d(k) * x(k);
+          acc += t * t;
+        },
+        sum);
+    floors[i] = 1e4 * std::numeric_limits<double>::epsilon() * std::sqrt(sum);
+  }
+  return floors;
+}
+
+std::array<double, 3> field_norms(const FsiProblem::Impl& m, ConstVector r) {
+  return {norm2(m.part(r, m.s_range)), norm2(m.part(r, m.f_range)), norm2(m.part(r, m.g_range))};
+}
+
+// r := D r with D = 1/scale per field.
+void scale_fields(const FsiProblem::Impl& m, const std::array<double, 3>& scale, Vector r) {
+  const Range ranges[3] = {m.s_range, m.f_range, m.g_range};
+  for (int i = 0; i < 3; ++i) biofsi::scale(1.0 / scale[i], m.part(r, ranges[i]));
+}
+
+}  // namespace
+
+// Newton on the condensed system with each field's residual measured in its own scale: the
+// linear system is solved for the residual scaled field by field to unit norm (so one field's
+// units cannot hide another's error), the line search and the forcing term use that scaled norm.
+NewtonResult FsiProblem::solve() {
+  Impl& m = *impl_;
+  ScopedTimer timer(stats_.seconds_solve);
+  const FsiSettings& st = m.settings;
+  const int n = n_dofs();
+  Vector r("biofsi::fsi_r", n), rhs("biofsi::fsi_rhs", n), du("biofsi::fsi_du", n);
+  Vector trial("biofsi::fsi_trial", n), r_trial("biofsi::fsi_r_trial", n);
+  Vector work("biofsi::fsi_work", n);
+  NewtonResult res;
+  stats_.last_krylov.clear();
+  stats_.last_residuals.clear();
+  residual(x_, r);
+  std::array<double, 3> norms = field_norms(m, r), reference = norms;
+  stats_.last_residuals.push_back(norms);
+  auto total = [](const std::array<double, 3>& a) {
+    return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  };
+  res.residual_history.push_back(total(norms));
+  if (!std::isfinite(total(norms))) {
+    res.reason = "NaN";
+    return res;
+  }
+  double eta = st.eta_max, ratio_prev = 1;
+  std::array<double, 3> floors{};  // none before the first assembly
+  while (true) {
+    std::array<double, 3> tol, scale;
+    bool done = true;
+    for (int i = 0; i < 3; ++i) {
+      reference[i] = std::max(reference[i], norms[i]);
+      tol[i] = std::max({st.abs_tol, st.rel_tol * reference[i], floors[i]});
+      done = done && norms[i] <= tol[i];
+      scale[i] = std::max(norms[i], tol[i]);
+    }
+    if (done) {
+      res.converged = true;
+      res.reason = "converged";
+      break;
+    }
+    if (res.iterations >= st.max_iterations) {
+      res.reason = "max iterations";
+      break;
+    }
+    const double largest = std::max({scale[0], scale[1], scale[2]});
+    for (auto& s : scale)
+      if (s == 0) s = largest;  // a field that is zero throughout: neutral weight
+    double merit0 = 0;
+    for (int i = 0; i < 3; ++i) merit0 += std::pow(norms[i] / scale[i], 2);
+
+    if (res.iterations > 0) {
+      eta = 0.9 * std::pow(ratio_prev, 2.0);
+      const double from_prev = 0.9 * eta * eta;
+      if (from_prev > 0.1) eta = std::max(eta, from_prev);
+    }
+    eta = std::min(std::max(eta, 1e-10), st.eta_max);
+
+    linearise(m, x_);
+    setup_preconditioner(m, stats_);
+    floors = roundoff_floors(m);
+    copy(r, rhs);
+    scale_fields(m, scale, rhs);
+    biofsi::scale(-1.0, rhs);
+    fill(du, 0);
+    const ApplyFn jacobian = [&](ConstVector v, Vector y) {
+      apply_jacobian(m, stats_, v, y);
+      scale_fields(m, scale, y);
+    };
+    const ApplyFn precondition = [&](ConstVector v, Vector z) {
+      copy(v, work);
+      std::array<double, 3> inverse = {1 / scale[0], 1 / scale[1], 1 / scale[2]};
+      scale_fields(m, inverse, work);  // D^-1 v
+      apply_preconditioner(m, stats_, work, z);
+    };
+    KrylovOptions k;
+    k.rel_tol = eta;
+    k.max_iterations = st.krylov_max_iterations;
+    k.restart = st.krylov_restart;
+    const KrylovResult lin = fgmres(jacobian, precondition, rhs, du, k);
+    res.krylov_iterations += lin.iterations;
+    stats_.last_krylov.push_back(lin.iterations);
+    if (lin.reason == "NaN" || !std::isfinite(lin.final_residual) || !all_finite(du)) {
+      res.reason = "NaN in the linear solve";
+      break;
+    }
+    if (!(lin.final_residual < lin.initial_residual)) {
+      res.reason = "linear solver made no progress (" + lin.reason + ")";
+      break;
+    }
+    // Backtracking on the scaled merit sum_i (||r_i|| / scale_i)^2.
+    double lambda = 1, best = std::numeric_limits<double>::infinity(), best_lambda = 0;
+    std::array<double, 3> best_norms{};
+    for (int bt = 0; bt <= 10; ++bt) {
+      copy(x_, trial);
+      axpy(lambda, du, trial);
+      residual(trial, r_trial);
+      const auto tn = field_norms(m, r_trial);
+      double merit = 0;
+      for (int i = 0; i < 3; ++i) merit += std::pow(tn[i] / scale[i], 2);
+      if (std::isfinite(merit) && merit < best) {
+        best = merit;
+        best_lambda = lambda;
+        best_norms = tn;
+      }
+      if (std::isfinite(merit) && merit <= (1 - 2e-4 * lambda) * merit0) break;
+      lambda *= 0.5;
+    }
+    if (!(best < merit0)) {
+      res.reason = "line search failed";
+      break;
+    }
+    if (best_lambda != lambda) {  // the last trial was not the best one: redo the best
+      copy(x_, trial);
+      axpy(best_lambda, du, trial);
+      residual(trial, r_trial);
+    }
+    copy(trial, x_);
+    copy(r_trial, r);
+    ratio_prev = std::sqrt(best / merit0);
+    norms = best_norms;
+    ++res.iterations;
+    stats_.last_residuals.push_back(norms);
+    res.residual_history.push_back(total(norms));
+  }
+  ++stats_.solves;
+  stats_.newton_iterations += res.iterations;
+  stats_.krylov_iterations += res.krylov_iterations;
+  return res;
+}
+
+namespace {
+
+std::string failure_report(const NewtonResult& r, const FsiStats& s) {
+  std::ostringstream why;
+  why << "Newton " << r.reason << " after " << r.iterations
+      << " iterations; residual history (structure, fluid, fluid mesh):";
+  for (const auto& n : s.last_residuals) why << " (" << n[0] << ", " << n[1] << ", " << n[2] << ")";
+  return why.str();
+}
+
+}  // namespace
+
+void FsiProblem::commit(double dt) {
+  Impl& m = *impl_;
+  sync_state(m, x_, m.xs, m.structure.displacement_device());
+  copy(m.part(m.xs, m.s_range), m.structure.increment());
+  m.structure.end_step(dt);
+  copy(m.part(m.xs, m.f_range), m.fluid.state());
+  m.fluid.end_step(dt);
+  copy(m.part(m.xs, m.g_range), m.g_now);
+  move_fluid_mesh(m, m.g_now);
+  m.fluid.sync_host_coordinates();
+}
+
+void FsiProblem::restore() {
+  Impl& m = *impl_;
+  m.fluid.restore_old_state();
+  copy(m.g_old, m.g_now);
+  fill(m.grid_velocity, 0);
+  move_fluid_mesh(m, m.g_now);
+}
+
+NewtonResult FsiProblem::step_once(double dt, const std::string& label) {
+  prepare_step(dt);
+  const NewtonResult r = solve();
+  if (!r.converged) {
+    restore();
+    throw SolveError("fsi", label, failure_report(r, stats_));
+  }
+  commit(dt);
+  return r;
+}
+
+NewtonResult FsiProblem::step(double dt, const std::string& label) {
+  Impl& m = *impl_;
+  try {
+    return step_once(dt, label);
+  } catch (const SolveError& first) {
+    // Cut the step: a failed solve left the fields at the step's start; a failed sub-step after
+    // committed ones needs that start back.
+    const auto d0 = m.structure.displacement(), v0 = m.structure.velocity();
+    const double ts = m.structure.time(), tf = m.fluid.time();
+    const auto f0 = m.fluid.solution_host();
+    Vector g0("biofsi::fsi_g0", 3 * n_nodes_);
+    copy(m.g_now, g0);
+    for (int level = 1; level <= m.settings.max_step_cuts; ++level) {
+      const int n = 1 << level;
+      try {
+        NewtonResult r;
+        for (int i = 0; i < n; ++i)
+          r = step_once(dt / n, label + " (sub-step " + std::to_string(i + 1) + "/" +
+                                    std::to_string(n) + ")");
+        ++stats_.cut_steps;
+        return r;
+      } catch (const SolveError&) {
+        m.structure.set_state(d0, v0, ts);
+        m.fluid.set_solution(f0);
+        m.fluid.set_time(tf);
+        copy(g0, m.g_now);
+        copy(g0, m.g_old);
+        restore();
+      }
+    }
+    throw SolveError("fsi", label,
+                     first.why() + "; cutting the step into up to " +
+                         std::to_string(1 << m.settings.max_step_cuts) + " sub-steps did not help");
+  }
+}
+
+NewtonResult FsiProblem::solve_steady(const std::string& label) {
+  prepare_steady();
+  const NewtonResult r = solve();
+  if (!r.converged) {
+    restore();
+    throw SolveError("fsi", label, failure_report(r, stats_));
+  }
+  commit(0.0);
+  fill(impl_->grid_velocity, 0);
+  return r;
+}
+
+std::vector<char> FsiProblem::free_dofs() const {
+  const Impl& m = *impl_;
+  const auto s = host_mask(m.structure_fixed), f = host_mask(m.fluid_fixed),
+             g = host_mask(m.mesh_eliminated);
+  std::vector<char> out;
+  for (char c : s) out.push_back(!c);
+  for (char c : f) out.push_back(!c);
+  for (char c : g) out.push_back(!c);
+  return out;
+}
+
+std::vector<Point> FsiProblem::displacement() const {
+  const Impl& m = *impl_;
+  const auto d = to_host_vector(m.structure.displacement_device());
+  const auto g = to_host_vector(m.g_now);
+  std::vector<Point> out(n_nodes_);
+  for (int n = 0; n < n_nodes_; ++n)
+    for (int c = 0; c < 3; ++c) out[n][c] = m.structure_node[n] ? d[3 * n + c] : g[3 * n + c];
+  return out;
+}
+
+Mesh FsiProblem::current_mesh() const {
+  Mesh mesh = impl_->structure.mesh();
+  const auto d = displacement();
+  for (int n = 0; n < n_nodes_; ++n)
+    for (int c = 0; c < 3; ++c) mesh.x[n][c] += d[n][c];
+  return mesh;
+}
+
+std::vector<Point> FsiProblem::mesh_displacement() const {
+  const auto g = to_host_vector(impl_->g_now);
+  std::vector<Point> out(n_nodes_);
+  for (int n = 0; n < n_nodes_; ++n) out[n] = {g[3 * n], g[3 * n + 1], g[3 * n + 2]};
+  return out;
+}
+
+void FsiProblem::set_mesh_displacement(const std::vector<Point>& g) {
+  Impl& m = *impl_;
+  if (static_cast<int>(g.size()) != n_nodes_)
+    throw std::invalid_argument("fsi: mesh displacement has the wrong size");
+  std::vector<double> flat(3 * n_nodes_);
+  for (int n = 0; n < n_nodes_; ++n)
+    for (int c = 0; c < 3; ++c) flat[3 * n + c] = g[n][c];
+  copy(to_device_vector(flat, "biofsi::fsi_g_in"), m.g_now);
+  copy(m.g_now, m.g_old);
+  fill(m.grid_velocity, 0);
+  move_fluid_mesh(m, m.g_now);
+  m.fluid.sync_host_coordinates();
+}
+
+std::vector<Point> FsiProblem::grid_velocity() const {
+  const auto v = to_host_vector(impl_->grid_velocity);
+  std::vector<Point> out(n_nodes_);
+  for (int n = 0; n < n_nodes_; ++n) out[n] = {v[3 * n], v[3 * n + 1], v[3 * n + 2]};
+  return out;
+}
+
+}  // namespace biofsi

@@ -1,0 +1,78 @@
+// Turek & Hron (2006) FSI1 (../shared/reference/benchmarks.md): the steady coupled problem of the
+// elastic flag behind the cylinder at Re 20, on the Gmsh mesh family of cases/meshes/turek_hron.geo
+// (fsi_benchmarks.hpp). CI runs refine 1; test_fsi_long (BIOFSI_FSI_LONG, label long) runs the
+// refinement study, refine 1 and 2.
+//
+// Measured (shape derivatives on, inner block tolerance 1e-2), deviation from the reference:
+//   refine 1 (6076 nodes):  u_x(A) +3.31%, u_y(A) -2.90%, drag +0.89%, lift +3.23%;
+//                           7 Newton (quadratic), 107 outer FGMRES iterations, 91 s on 2 cores
+//   refine 2 (23704 nodes): u_x(A) +1.16%, u_y(A) -0.51%, drag +0.28%, lift +0.94%;
+//                           7 Newton, 313 outer FGMRES (10 36 33 48 125 38 23), 1191 s (the
+//                           fluid block's SIMPLE-preconditioned inner solves: 1003 s)
+// Tolerances, and why: the 2% for every quantity holds at refine 2, asserted by the long
+// study. The CI mesh (refine 1, 4 elements through the flag) is not fine enough for 2%: u_x and
+// lift are 3.3% off, dominated by the flag's Q1 bending stiffness (CSM1 on the same flag mesh is
+// -7.9% in u_y); refine 2 costs 13x the time, beyond the CI budget. CI holds refine 1 to 4% (the
+// measured error plus room for round-off in the iteration path), drag to the 2%, and
+// checks Newton's convergence.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "coupling/fsi_benchmarks.hpp"
+
+using namespace biofsi;
+using namespace biofsi::test;
+
+namespace {
+
+double relative_error(double value, double reference) {
+  return std::abs(value - reference) / std::abs(reference);
+}
+
+struct Errors {
+  double ux, uy, drag, lift;
+};
+
+Errors errors_of(const FsiBenchmarkResult& r) {
+  using R = Fsi1Reference;
+  return {relative_error(r.ux, R::ux), relative_error(r.uy, R::uy), relative_error(r.drag, R::drag),
+          relative_error(r.lift, R::lift)};
+}
+
+}  // namespace
+
+#ifndef BIOFSI_FSI_LONG
+
+TEST(FsiBenchmarks, TurekHronFsi1OnTheCiMesh) {
+  const FsiBenchmarkResult r = run_fsi1(1);
+  print_fsi1(1, r);
+  const Errors e = errors_of(r);
+  EXPECT_LT(e.ux, 0.04);
+  EXPECT_LT(e.uy, 0.04);
+  EXPECT_LT(e.drag, 0.02);
+  EXPECT_LT(e.lift, 0.04);
+  // Newton on the exact Jacobian: measured 7 iterations from rest.
+  EXPECT_LE(r.newton, 10);
+}
+
+#else
+
+TEST(FsiBenchmarksLong, TurekHronFsi1RefinementStudy) {
+  const FsiBenchmarkResult r1 = run_fsi1(1);
+  print_fsi1(1, r1);
+  const FsiBenchmarkResult r2 = run_fsi1(2);
+  print_fsi1(2, r2);
+  const Errors e1 = errors_of(r1), e2 = errors_of(r2);
+  // The 2% on the finer mesh, and every error shrinking with h.
+  EXPECT_LT(e2.ux, 0.02);
+  EXPECT_LT(e2.uy, 0.02);
+  EXPECT_LT(e2.drag, 0.02);
+  EXPECT_LT(e2.lift, 0.02);
+  EXPECT_LT(e2.ux, e1.ux);
+  EXPECT_LT(e2.uy, e1.uy);
+  EXPECT_LT(e2.drag, e1.drag);
+  EXPECT_LT(e2.lift, e1.lift);
+}
+
+#endif
