@@ -29,8 +29,8 @@ KOKKOS_INLINE_FUNCTION int csr_find(const int* row_ptr, const int* col, int r, i
   return -1;
 }
 
-// y = A x
-inline void csr_multiply(const CsrMatrix& a, ConstVector x, Vector y) {
+// y = beta y + alpha A x (beta = 0 overwrites y, whatever it held)
+inline void csr_multiply_add(const CsrMatrix& a, Real alpha, ConstVector x, Real beta, Vector y) {
   auto rp = a.row_ptr;
   auto col = a.col;
   auto val = a.val;
@@ -38,8 +38,13 @@ inline void csr_multiply(const CsrMatrix& a, ConstVector x, Vector y) {
       "biofsi::csr_multiply", Kokkos::RangePolicy<ExecSpace>(0, a.n_rows), KOKKOS_LAMBDA(int r) {
         Real s = 0;
         for (int k = rp(r); k < rp(r + 1); ++k) s += val(k) * x(col(k));
-        y(r) = s;
+        y(r) = (beta == 0 ? Real(0) : beta * y(r)) + alpha * s;
       });
+}
+
+// y = A x
+inline void csr_multiply(const CsrMatrix& a, ConstVector x, Vector y) {
+  csr_multiply_add(a, 1, x, 0, y);
 }
 
 // Diagonal of A.

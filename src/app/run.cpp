@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "coupling/fsi.hpp"
 #include "fluid/fluid.hpp"
 #include "growth/growth.hpp"
 #include "io/expression.hpp"
@@ -40,6 +41,9 @@ TransportSettings transport_settings(const Scene& scene, const Mesh& mesh) {
     s.coefficients.diffusivity[b] = m.diffusivity;
     s.coefficients.monod_rate[b] = m.monod_rate;
     s.coefficients.monod_half_saturation[b] = m.monod_half_saturation;
+    const auto& sb = scene.structure.blocks;
+    if (scene.structure.enabled && std::find(sb.begin(), sb.end(), mesh.block_names[b]) != sb.end())
+      s.coefficients.material_motion[b] = 1;  // the deforming biofilm: Phi div u_S (eq. 9)
   }
   s.supg = scene.scalar.supg;
   s.theta = scene.time.mode == TimeMode::Steady ? 1.0 : scene.time.theta;
@@ -106,6 +110,53 @@ std::vector<FluidBoundaryCondition> fluid_conditions(const Scene& scene) {
   return out;
 }
 
+StructureSettings structure_settings(const Scene& scene, const Mesh& mesh) {
+  StructureSettings s;
+  for (const auto& name : mesh.block_names) {
+    const MaterialSpec& m = scene.materials.at(name);
+    s.materials.push_back(m.elastic ? StructureMaterial::from_young(
+                                          m.model == "neo_hooke" ? NeoHooke : SaintVenantKirchhoff,
+                                          m.youngs_modulus, m.poisson_ratio, m.density)
+                                    : StructureMaterial{});  // not a structure block: unused
+  }
+  s.blocks = scene.structure.blocks;
+  s.quasi_static = scene.structure.mode == "quasi_static";
+  s.theta = scene.time.theta;
+  s.plane_strain = scene.structure.plane_strain;
+  s.scatter = scene.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
+  return s;
+}
+
+std::vector<StructureDirichlet> structure_conditions(const Scene& scene) {
+  std::vector<StructureDirichlet> out;
+  for (const auto& bc : scene.structure.boundary_conditions) {
+    StructureDirichlet d;
+    d.set = bc.boundary;
+    for (int c = 0; c < 3; ++c)
+      if (bc.type == "fixed")
+        d.value[c] = [](const Point&, double) { return 0.0; };
+      else if (bc.value[c] != "free")
+        d.value[c] = to_function(bc.value[c]);
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+FsiSettings fsi_settings(const Scene& scene) {
+  FsiSettings s;
+  s.interface = scene.fsi.interface;
+  s.mesh_motion.poisson_ratio = scene.mesh_motion.poisson_ratio;
+  s.mesh_motion.stiffening = scene.mesh_motion.stiffening;
+  s.mesh_motion.scatter = scene.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
+  s.fixed_walls = scene.fsi.fixed_walls;
+  s.sliding_walls = scene.fsi.sliding_walls;
+  s.shape_derivatives = scene.fsi.shape_derivatives == "none" ? ShapeDerivatives::None
+                                                              : ShapeDerivatives::FiniteDifference;
+  s.rel_tol = scene.fsi.rel_tol;
+  s.max_iterations = scene.fsi.max_iterations;
+  return s;
+}
+
 // Terminal: one updating line. Otherwise: a plain log line at most every few seconds.
 class Progress {
  public:
@@ -149,13 +200,32 @@ void print_active_fields(const Scene& scene) {
                               b += (b.empty() ? "" : ", ") + n;
                             return b;
                           }() +
-                          "; other blocks held at rest; convects the scalar" +
+                          "; other blocks " +
+                          (scene.structure.enabled ? std::string("elastic")
+                                                   : std::string("held at rest")) +
+                          "; convects the scalar" +
                           (scene.growth.enabled && scene.growth.k2 > 0
                                ? ", wall shear erodes the biofilm)"
                                : ")")
                     : std::string("off (the scene has no fields.fluid section)"))
             << "\n"
-            << "  structure: off (the scene has no load on the biofilm)\n"
+            << "  structure: "
+            << (scene.structure.enabled
+                    ? "on (" +
+                          std::string(scene.structure.mode == "quasi_static" ? "quasi-static"
+                                                                             : "dynamic") +
+                          " finite-strain elasticity on blocks " +
+                          [&] {
+                            std::string b;
+                            for (const auto& n : scene.structure.blocks)
+                              b += (b.empty() ? "" : ", ") + n;
+                            return b;
+                          }() +
+                          ", coupled to the fluid by monolithic FSI on '" + scene.fsi.interface +
+                          "'; its motion moves the fluid mesh and the transport mesh)"
+                    : std::string("off (the scene has no fields.structure section: the biofilm "
+                                  "is rigid)"))
+            << "\n"
             << "  growth:    "
             << (scene.growth.enabled
                     ? "on (" + std::to_string(scene.growth.steps) + " growth steps of " +
@@ -211,6 +281,7 @@ struct GrowthTotals {
   int steps = 0, inner_steps = 0, stationary_loops = 0, mesh_krylov_iterations = 0;
   double seconds_growth = 0;
   double min_quality = 1, max_quality = -1;
+  double min_deformed_quality = 1;  // FSI: of the deformed configuration over all solves
 };
 
 class Driver {
@@ -224,6 +295,11 @@ class Driver {
         start_(Clock::now()) {
     if (scene.fluid.enabled)
       fluid_ = std::make_unique<FluidField>(mesh_, fluid_settings(scene), fluid_conditions(scene));
+    if (scene.structure.enabled) {
+      structure_ = std::make_unique<StructureField>(mesh_, structure_settings(scene, mesh_),
+                                                    structure_conditions(scene));
+      fsi_ = std::make_unique<FsiProblem>(mesh_, *fluid_, *structure_, fsi_settings(scene));
+    }
     std::cout << "mesh: " << mesh_.n_nodes() << " nodes, " << mesh_.n_elements()
               << " hex8 elements, " << mesh_.block_names.size() << " blocks\n";
     field_.set_initial(to_function(scene.scalar.initial), 0.0);
@@ -353,8 +429,13 @@ class Driver {
         const std::string label = "growth step " + std::to_string(k + 1);
         const InterfaceMotion im = interface_motion(mesh_, gs, flux, shear);
         const GrowthStepReport rep = grow(mesh_, motion, gs, im, label);
-        field_.update_coordinates(mesh_);
-        if (fluid_) fluid_->update_coordinates(mesh_, 0.0);
+        if (fsi_) {
+          fsi_->set_reference(mesh_);
+          field_.update_coordinates(fsi_->current_mesh());
+        } else {
+          field_.update_coordinates(mesh_);
+          if (fluid_) fluid_->update_coordinates(mesh_, 0.0);
+        }
         totals_.seconds_growth += std::chrono::duration<double>(Clock::now() - t0).count();
         totals_.mesh_krylov_iterations += rep.krylov_iterations;
         ++totals_.steps;
@@ -378,21 +459,58 @@ class Driver {
 
  private:
   void solve_steady_flow(const std::string& label) {
-    const NewtonResult r = fluid_->solve_steady(label);
+    const NewtonResult r = fsi_ ? fsi_->solve_steady(label) : fluid_->solve_steady(label);
     if (!tty_ || !scene_.growth.enabled)
       std::cout << label << ": " << r.iterations << " Newton iterations, " << r.krylov_iterations
                 << " Krylov iterations, residual "
                 << (r.residual_history.empty() ? 0.0 : r.residual_history.back()) << "\n";
-    convect_scalar_with_flow();
+    after_flow_solve(label);
   }
 
   void advance_flow(const std::string& label) {
-    fluid_->step(scene_.time.dt, label);
-    convect_scalar_with_flow();
+    if (fsi_)
+      fsi_->step(scene_.time.dt, label);
+    else
+      fluid_->step(scene_.time.dt, label);
+    after_flow_solve(label);
   }
 
-  // c = u - u_grid; the mesh does not move within an inner loop, so c = u.
-  void convect_scalar_with_flow() { field_.set_convective_velocity(fluid_->velocity()); }
+  // The transport sees the flow on the configuration it was solved on: with FSI the deformed
+  // mesh, the ALE convective velocity c = u - u_grid in the fluid and the biofilm's own velocity
+  // for its Phi div u_S term (c = 0 there: its mesh moves with it). Without FSI the mesh does not
+  // move within an inner loop, so c = u.
+  void after_flow_solve(const std::string& label) {
+    if (!fsi_) {
+      field_.set_convective_velocity(fluid_->velocity());
+      return;
+    }
+    const Mesh current = fsi_->current_mesh();
+    check_deformed_quality(current, label);
+    field_.update_coordinates(current);
+    std::vector<Point> c = fluid_->velocity(), w = structure_->velocity();
+    const std::vector<Point> ug = fsi_->grid_velocity();
+    for (int n = 0; n < mesh_.n_nodes(); ++n)
+      for (int d = 0; d < 3; ++d) c[n][d] -= ug[n][d];
+    field_.set_convective_velocity(c);
+    field_.set_material_velocity(w);
+  }
+
+  // The deformed configuration must stay valid for the transport on it (and the next flow step).
+  void check_deformed_quality(const Mesh& current, const std::string& label) {
+    const auto q = mesh_quality_by_block(current);
+    for (size_t b = 0; b < q.size(); ++b) {
+      totals_.min_deformed_quality = std::min(totals_.min_deformed_quality, q[b].min);
+      if (q[b].min < scene_.mesh_motion.min_quality) {
+        std::ostringstream why;
+        why << "element " << q[b].worst_element << " of block '" << mesh_.block_names[b]
+            << "' has scaled Jacobian " << q[b].min
+            << (q[b].min <= 0 ? " (inverted)" : " (degenerate)")
+            << " in the deformed configuration, below mesh_motion.min_quality "
+            << scene_.mesh_motion.min_quality;
+        throw SolveError("fsi", label, why.str());
+      }
+    }
+  }
 
   // |wall shear stress| at the interface nodes (0 without a fluid).
   std::vector<double> wall_shear(const std::string& set) const {
@@ -423,17 +541,34 @@ class Driver {
     return avg;
   }
 
+  // The states whose change decides stationarity: the scalar's, and with a transient flow the
+  // flow's and the structure's displacement (each measured relative to its own size).
+  std::vector<std::vector<double>> inner_states() const {
+    std::vector<std::vector<double>> out = {field_.solution_host()};
+    if (fluid_ && scene_.fluid.mode == "transient") {
+      out.push_back(fluid_->solution_host());
+      if (structure_) {
+        std::vector<double> d;
+        for (const auto& p : structure_->displacement()) d.insert(d.end(), p.begin(), p.end());
+        out.push_back(std::move(d));
+      }
+    }
+    return out;
+  }
+
   template <class OnStep, class AfterStep>
   InnerLoopResult inner_loop(const std::string& prefix, OnStep on_step, AfterStep after_step) {
     InnerLoopResult r;
-    std::vector<double> previous = field_.solution_host();
+    std::vector<std::vector<double>> previous = inner_states();
     for (int i = 1; i <= scene_.time.steps; ++i) {
       std::ostringstream label;
       label << prefix << "inner step " << i << " (t = " << field_.time() + scene_.time.dt << ")";
       if (fluid_ && scene_.fluid.mode == "transient") advance_flow(label.str());
       field_.step(scene_.time.dt, label.str());
-      std::vector<double> now = field_.solution_host();
-      r.change = relative_change(now, previous);
+      std::vector<std::vector<double>> now = inner_states();
+      r.change = 0;
+      for (size_t k = 0; k < now.size(); ++k)
+        r.change = std::max(r.change, relative_change(now[k], previous[k]));
       previous = std::move(now);
       r.steps = i;
       on_step(i, r.change);
@@ -483,6 +618,19 @@ class Driver {
   }
 
   void write(int step, double time, std::vector<OutputField> extra) {
+    if (fsi_) {
+      std::vector<double> d;
+      for (const auto& v : fsi_->displacement()) d.insert(d.end(), v.begin(), v.end());
+      extra.insert(extra.begin(), {"displacement", 3, false, d});
+      // The biofilm's stress state per element (zero outside the structure's blocks), and its
+      // velocity (zero in quasi-static runs).
+      const std::vector<double> all = structure_->von_mises_stress();
+      std::vector<double> vm(all.size(), 0.0), v;
+      for (int e : structure_->elements()) vm[e] = all[e];
+      for (const auto& p : structure_->velocity()) v.insert(v.end(), p.begin(), p.end());
+      extra.push_back({"von_mises_stress", 1, true, vm});
+      extra.push_back({"structure_velocity", 3, false, v});
+    }
     if (fluid_) {
       std::vector<double> u, p = fluid_->pressure();
       for (const auto& v : fluid_->velocity()) u.insert(u.end(), v.begin(), v.end());
@@ -491,7 +639,7 @@ class Driver {
     }
     if (scene_.scalar.enabled)
       extra.insert(extra.begin(), {"phi", 1, false, field_.solution_host()});
-    writer_.write(step, time, mesh_, extra);
+    writer_.write(step, time, fsi_ ? fsi_->current_mesh() : mesh_, extra);
   }
 
   void write_checkpoint(int growth_steps_done) {
@@ -505,6 +653,16 @@ class Driver {
         {"growth_step", {static_cast<double>(growth_steps_done)}},
         {"time", {field_.time()}}};
     if (fluid_) data.push_back({"fluid", fluid_->solution_host()});
+    if (fsi_) {
+      auto flat = [](const std::vector<Point>& v) {
+        std::vector<double> out;
+        for (const auto& p : v) out.insert(out.end(), p.begin(), p.end());
+        return out;
+      };
+      data.push_back({"structure_displacement", flat(structure_->displacement())});
+      data.push_back({"structure_velocity", flat(structure_->velocity())});
+      data.push_back({"fluid_mesh_displacement", flat(fsi_->mesh_displacement())});
+    }
     write_h5_datasets((out_ / name).string(), data);
   }
 
@@ -528,10 +686,27 @@ class Driver {
       const auto state = read_h5_dataset(path, "fluid");
       if (state.size() != 4 * mesh_.x.size())
         throw std::runtime_error(path + ": the checkpoint has no fluid state for this mesh");
-      fluid_->update_coordinates(mesh_, 0.0);
       fluid_->set_solution(state);
       fluid_->set_time(time[0]);
-      convect_scalar_with_flow();
+      if (fsi_) {
+        auto points = [&](const char* name) {
+          const auto v = read_h5_dataset(path, name);
+          if (v.size() != 3 * mesh_.x.size())
+            throw std::runtime_error(path + ": the checkpoint has no '" + std::string(name) +
+                                     "' for this mesh");
+          std::vector<Point> out(mesh_.n_nodes());
+          for (int n = 0; n < mesh_.n_nodes(); ++n) out[n] = {v[3 * n], v[3 * n + 1], v[3 * n + 2]};
+          return out;
+        };
+        fsi_->set_reference(mesh_);
+        structure_->set_state(points("structure_displacement"), points("structure_velocity"),
+                              time[0]);
+        fsi_->set_mesh_displacement(points("fluid_mesh_displacement"));
+        field_.update_coordinates(fsi_->current_mesh());
+      } else {
+        fluid_->update_coordinates(mesh_, 0.0);
+      }
+      after_flow_solve("restart");
     }
     first_growth_step_ = static_cast<int>(step[0]);
     if (first_growth_step_ < 0 || first_growth_step_ > scene_.growth.steps)
@@ -595,17 +770,39 @@ class Driver {
       << s.krylov_iterations << " Krylov iterations, " << s.amg_setups << " AMG set-ups, "
       << s.cut_steps << " time steps cut into sub-steps, " << s.pseudo_steps
       << " pseudo-time steps\n";
-    if (fluid_) {
+    if (fluid_ && !fsi_) {
       const FluidStats& f = fluid_->stats();
       o << "  fluid: " << f.steps << " solves, " << f.newton_iterations << " Newton and "
         << f.krylov_iterations << " Krylov iterations, " << f.preconditioner_setups
         << " preconditioner set-ups, " << f.cut_steps << " time steps cut, " << f.pseudo_steps
         << " pseudo-time steps\n";
     }
+    if (fsi_) {
+      const FsiStats& f = fsi_->stats();
+      double d_max = 0;
+      for (const auto& p : structure_->displacement())
+        d_max = std::max(d_max, std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
+      o << "  fsi: " << f.solves << " monolithic solves, " << f.newton_iterations << " Newton and "
+        << f.krylov_iterations << " outer Krylov iterations (inner: structure "
+        << f.inner_iterations[0] << ", fluid " << f.inner_iterations[1] << ", fluid mesh "
+        << f.inner_iterations[2] << "), " << f.cut_steps << " time steps cut; max structure "
+        << "displacement " << d_max << ", smallest scaled Jacobian of the deformed mesh "
+        << totals_.min_deformed_quality << "\n";
+    }
     o << "  time [s]: total " << seconds() << "; scalar " << s.seconds_solve << " (residual "
       << s.seconds_residual << ", tangent " << s.seconds_tangent << ", assembly "
       << s.seconds_assembly << ", AMG set-up " << s.seconds_amg_setup << ")";
-    if (fluid_) {
+    if (fsi_) {
+      const FsiStats& f = fsi_->stats();
+      // Shape derivatives are part of the Jacobian action; the block Krylov solves are the
+      // preconditioner's (its remainder: the coupling-block products).
+      o << "; fsi " << f.seconds_solve << " (residual " << f.seconds_residual
+        << ", jacobian action " << f.seconds_tangent << ", shape derivatives " << f.seconds_shape
+        << ", assembly " << f.seconds_assembly << ", AMG set-up " << f.seconds_preconditioner_setup
+        << ", preconditioner " << f.seconds_preconditioner << ", block Krylov structure "
+        << f.seconds_inner[0] << ", block Krylov fluid " << f.seconds_inner[1]
+        << ", block Krylov fluid mesh " << f.seconds_inner[2] << ")";
+    } else if (fluid_) {
       const FluidStats& f = fluid_->stats();
       o << "; fluid " << f.seconds_solve << " (residual " << f.seconds_residual << ", tangent "
         << f.seconds_tangent << ", assembly " << f.seconds_assembly << ", preconditioner set-up "
@@ -641,6 +838,8 @@ class Driver {
   Mesh mesh_;
   TransportField field_;
   std::unique_ptr<FluidField> fluid_;
+  std::unique_ptr<StructureField> structure_;
+  std::unique_ptr<FsiProblem> fsi_;
   XdmfWriter writer_;
   Clock::time_point start_;
   bool tty_ = isatty(STDOUT_FILENO);

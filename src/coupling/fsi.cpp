@@ -92,19 +92,6 @@ IndexView device_indices(const std::vector<int>& v, const std::string& label) {
   return d;
 }
 
-// y -= alpha A x
-void subtract_product(const CsrMatrix& a, Real alpha, ConstVector x, Vector y) {
-  auto rp = a.row_ptr;
-  auto col = a.col;
-  auto val = a.val;
-  Kokkos::parallel_for(
-      "biofsi::coupling_apply", Kokkos::RangePolicy<ExecSpace>(0, a.n_rows), KOKKOS_LAMBDA(int r) {
-        Real s = 0;
-        for (int k = rp(r); k < rp(r + 1); ++k) s += val(k) * x(col(k));
-        y(r) -= alpha * s;
-      });
-}
-
 double max_abs(ConstVector v) {
   double m = 0;
   Kokkos::parallel_reduce(
@@ -579,12 +566,12 @@ void apply_preconditioner(FsiProblem::Impl& m, FsiStats& stats, ConstVector r, V
       m.fluid.matrix(), [&m](ConstVector x, Vector y) { m.fluid.precondition(x, y); }, false, tol,
       max_it, m.part(r, m.f_range), zf, stats.inner_iterations[1], stats.seconds_inner[1]);
   copy(m.part(r, m.s_range), rs);
-  subtract_product(m.force_coupling.m, 1.0, zf, rs);
+  csr_multiply_add(m.force_coupling.m, -1.0, zf, 1.0, rs);
   block_solve(
       m.structure.matrix(), [&m](ConstVector x, Vector y) { m.structure.precondition(x, y); },
       false, tol, max_it, rs, zs, stats.inner_iterations[0], stats.seconds_inner[0]);
   copy(m.part(r, m.g_range), rg);
-  subtract_product(m.mesh_coupling.m, 1.0, zs, rg);
+  csr_multiply_add(m.mesh_coupling.m, -1.0, zs, 1.0, rg);
   block_solve(
       m.mesh_matrix, [&m](ConstVector x, Vector y) { m.mesh_amg.apply(x, y); }, true, tol, max_it,
       rg, zg, stats.inner_iterations[2], stats.seconds_inner[2]);
@@ -729,7 +716,12 @@ NewtonResult FsiProblem::solve() {
       const double from_prev = 0.9 * eta * eta;
       if (from_prev > 0.1) eta = std::max(eta, from_prev);
     }
-    eta = std::min(std::max(eta, 1e-10), st.eta_max);
+    // No tighter than the Newton tolerance needs: a linear solve asked to go below the field
+    // tolerances (round-off floors included) near convergence only runs out of iterations.
+    double needed = 1;
+    for (int i = 0; i < 3; ++i)
+      if (norms[i] > 0) needed = std::min(needed, tol[i] / norms[i]);
+    eta = std::min(std::max({eta, 1e-10, 0.1 * needed}), st.eta_max);
 
     linearise(m, x_);
     setup_preconditioner(m, stats_);
@@ -859,27 +851,18 @@ NewtonResult FsiProblem::step(double dt, const std::string& label) {
     const auto f0 = m.fluid.solution_host();
     Vector g0("biofsi::fsi_g0", 3 * n_nodes_);
     copy(m.g_now, g0);
-    for (int level = 1; level <= m.settings.max_step_cuts; ++level) {
-      const int n = 1 << level;
-      try {
-        NewtonResult r;
-        for (int i = 0; i < n; ++i)
-          r = step_once(dt / n, label + " (sub-step " + std::to_string(i + 1) + "/" +
-                                    std::to_string(n) + ")");
-        ++stats_.cut_steps;
-        return r;
-      } catch (const SolveError&) {
-        m.structure.set_state(d0, v0, ts);
-        m.fluid.set_solution(f0);
-        m.fluid.set_time(tf);
-        copy(g0, m.g_now);
-        copy(g0, m.g_old);
-        restore();
-      }
-    }
-    throw SolveError("fsi", label,
-                     first.why() + "; cutting the step into up to " +
-                         std::to_string(1 << m.settings.max_step_cuts) + " sub-steps did not help");
+    return retry_in_sub_steps(
+        first, "fsi", label, dt, m.settings.max_step_cuts,
+        [&](double h, const std::string& l) { return step_once(h, l); },
+        [&] {
+          m.structure.set_state(d0, v0, ts);
+          m.fluid.set_solution(f0);
+          m.fluid.set_time(tf);
+          copy(g0, m.g_now);
+          copy(g0, m.g_old);
+          restore();
+        },
+        stats_.cut_steps);
   }
 }
 

@@ -494,25 +494,15 @@ NewtonResult FluidField::step(double dt, const std::string& label) {
     const double t0 = time_;
     Vector start("biofsi::fluid_step_start", state_.extent(0));
     copy(state_, start);
-    for (int level = 1; level <= settings_.max_step_cuts; ++level) {
-      const int n = 1 << level;
-      try {
-        NewtonResult r;
-        for (int i = 0; i < n; ++i)
-          r = step_once(
-              dt / n, settings_.theta,
-              label + " (sub-step " + std::to_string(i + 1) + "/" + std::to_string(n) + ")");
-        ++stats_.cut_steps;
-        return r;
-      } catch (const SolveError&) {
-        copy(start, state_);
-        save_old_state();
-        time_ = t0;
-      }
-    }
-    throw SolveError("fluid", label,
-                     first.why() + "; cutting the step into up to " +
-                         std::to_string(1 << settings_.max_step_cuts) + " sub-steps did not help");
+    return retry_in_sub_steps(
+        first, "fluid", label, dt, settings_.max_step_cuts,
+        [&](double h, const std::string& l) { return step_once(h, settings_.theta, l); },
+        [&] {
+          copy(start, state_);
+          save_old_state();
+          time_ = t0;
+        },
+        stats_.cut_steps);
   }
 }
 

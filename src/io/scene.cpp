@@ -468,8 +468,10 @@ void read_materials(const Checker& c, const Node& node, Scene& scene) {
       c.fail(k, key, "material for an unknown block", name,
              "one of the blocks " + join_list(blocks));
     if (!seen.insert(name).second) c.fail(k, key, "duplicate key", name, "each block once");
-    MapView m(c, it->second, key, {"diffusivity", "monod_rate", "monod_half_saturation"},
-              "a map with diffusivity [mm^2/ms] and optional Monod constants");
+    MapView m(c, it->second, key,
+              {"diffusivity", "monod_rate", "monod_half_saturation", "model", "youngs_modulus",
+               "poisson_ratio", "density"},
+              "a map with diffusivity [mm^2/ms], optional Monod and elastic constants");
     MaterialSpec mat;
     mat.diffusivity = get_number(
         m, "diffusivity", [](double v) { return v > 0; }, "a number > 0 [mm^2/ms]", std::nullopt);
@@ -481,6 +483,22 @@ void read_materials(const Checker& c, const Node& node, Scene& scene) {
           m, "monod_half_saturation", [](double v) { return v > 0; }, k_expected, std::nullopt);
     else if (mat.monod_rate > 0)
       m.missing("monod_half_saturation", k_expected, " (monod_rate > 0 needs it)");
+    // Elastic constants, for a block of fields.structure: all of E, nu and rho, or none.
+    const bool any_elastic =
+        m.get("youngs_modulus") || m.get("poisson_ratio") || m.get("density") || m.get("model");
+    if (any_elastic) {
+      mat.elastic = true;
+      mat.model = get_choice(m, "model", {"saint_venant_kirchhoff", "neo_hooke"}, mat.model);
+      mat.youngs_modulus = get_number(
+          m, "youngs_modulus", [](double v) { return v > 0; },
+          "a number > 0 [mass/(mm ms^2)] (elastic constants need E, nu and rho)", std::nullopt);
+      mat.poisson_ratio = get_number(
+          m, "poisson_ratio", [](double v) { return v > -1 && v < 0.5; },
+          "a number in (-1, 0.5) (elastic constants need E, nu and rho)", std::nullopt);
+      mat.density = get_number(
+          m, "density", [](double v) { return v >= 0; },
+          "a number >= 0 [mass/mm^3] (elastic constants need E, nu and rho)", std::nullopt);
+    }
     scene.materials[name] = mat;
   }
   for (const auto& b : blocks)
@@ -488,6 +506,29 @@ void read_materials(const Checker& c, const Node& node, Scene& scene) {
       c.fail(node, child_key("materials", b),
              "missing required key (block '" + b + "' has no material)", std::nullopt,
              "a map with diffusivity [mm^2/ms] and optional Monod constants");
+}
+
+// The boundary_conditions list of a field section (required, non-empty, maps with the keys
+// boundary, type and value): calls read(item, line, boundary) for each, the boundary checked to
+// be a face set of the mesh.
+template <class Read>
+void for_each_boundary_condition(const Checker& c, const MapView& m, const std::string& field,
+                                 const std::set<std::string>& face_sets, Read read) {
+  const std::string key = m.key("boundary_conditions");
+  const std::string list_expected =
+      "a list of " + field + " boundary conditions {boundary, type, ...}";
+  const Node bcs = m.require("boundary_conditions", list_expected);
+  if (!bcs.IsSequence() || bcs.size() == 0) c.wrong_type(bcs, key, list_expected);
+  std::vector<std::string> names(face_sets.begin(), face_sets.end());
+  for (size_t i = 0; i < bcs.size(); ++i) {
+    const Node item = bcs[i];
+    const std::string ikey = index_key(key, i);
+    if (!item.IsMap()) c.wrong_type(item, ikey, "a map {boundary, type, ...}");
+    const MapView typed(c, item, ikey, {"boundary", "type", "value"});
+    const Node b = typed.require("boundary", "a face set of the mesh: " + join_list(names));
+    const int line = item.Mark().is_null() ? 0 : item.Mark().line + 1;
+    read(typed, line, boundary_name(c, b, typed.key("boundary"), face_sets));
+  }
 }
 
 void read_fluid_field(const Checker& c, const MapView& f, const std::set<std::string>& face_sets,
@@ -523,47 +564,101 @@ void read_fluid_field(const Checker& c, const MapView& f, const std::set<std::st
       get_choice(m, "viscous_form", {"symmetric", "gradient"}, "symmetric") == "symmetric";
   spec.preconditioner =
       get_choice(m, "preconditioner", {"simple", "simplec", "monolithic_amg"}, spec.preconditioner);
-  const std::string key = m.key("boundary_conditions");
-  const std::string list_expected = "a list of fluid boundary conditions {boundary, type, ...}";
-  const Node bcs = m.require("boundary_conditions", list_expected);
-  if (!bcs.IsSequence() || bcs.size() == 0) c.wrong_type(bcs, key, list_expected);
-  std::vector<std::string> names(face_sets.begin(), face_sets.end());
-  for (size_t i = 0; i < bcs.size(); ++i) {
-    const Node item = bcs[i];
-    const std::string ikey = index_key(key, i);
-    if (!item.IsMap()) c.wrong_type(item, ikey, "a map {boundary, type, ...}");
-    MapView typed(c, item, ikey, {"boundary", "type", "value"});
-    FluidBc bc;
-    bc.line = item.Mark().is_null() ? 0 : item.Mark().line + 1;
-    bc.type = get_choice(typed, "type", {"velocity", "no_slip", "slip", "pressure", "do_nothing"},
-                         std::nullopt);
-    const Node b = typed.require("boundary", "a face set of the mesh: " + join_list(names));
-    bc.boundary = boundary_name(c, b, typed.key("boundary"), face_sets);
-    const bool has_value = bc.type == "velocity" || bc.type == "pressure";
-    if (auto v = typed.get("value")) {
-      if (!has_value)
-        c.fail(*v, typed.key("value"), "a " + bc.type + " condition takes no value", render(*v),
-               "no value key");
-      if (bc.type == "velocity") {
-        const std::string expected = "a list of 3 expressions (velocity components)";
-        if (!v->IsSequence() || v->size() != 3) c.wrong_type(*v, typed.key("value"), expected);
-        for (size_t d = 0; d < 3; ++d)
-          bc.value[d] = expression(c, (*v)[d], index_key(typed.key("value"), d));
-      } else {
-        bc.value[0] = expression(c, *v, typed.key("value"));
-      }
-    } else if (has_value) {
-      typed.missing("value", bc.type == "velocity" ? "a list of 3 expressions" : "an expression",
-                    "");
-    }
-    spec.boundary_conditions.push_back(bc);
+  for_each_boundary_condition(
+      c, m, "fluid", face_sets, [&](const MapView& typed, int line, const std::string& boundary) {
+        FluidBc bc;
+        bc.line = line;
+        bc.boundary = boundary;
+        bc.type = get_choice(
+            typed, "type", {"velocity", "no_slip", "slip", "pressure", "do_nothing"}, std::nullopt);
+        const bool has_value = bc.type == "velocity" || bc.type == "pressure";
+        if (auto v = typed.get("value")) {
+          if (!has_value)
+            c.fail(*v, typed.key("value"), "a " + bc.type + " condition takes no value", render(*v),
+                   "no value key");
+          if (bc.type == "velocity") {
+            const std::string expected = "a list of 3 expressions (velocity components)";
+            if (!v->IsSequence() || v->size() != 3) c.wrong_type(*v, typed.key("value"), expected);
+            for (size_t d = 0; d < 3; ++d)
+              bc.value[d] = expression(c, (*v)[d], index_key(typed.key("value"), d));
+          } else {
+            bc.value[0] = expression(c, *v, typed.key("value"));
+          }
+        } else if (has_value) {
+          typed.missing("value",
+                        bc.type == "velocity" ? "a list of 3 expressions" : "an expression", "");
+        }
+        spec.boundary_conditions.push_back(bc);
+      });
+}
+
+void read_structure_field(const Checker& c, const MapView& f,
+                          const std::set<std::string>& face_sets, Scene& scene) {
+  auto node = f.get("structure");
+  if (!node) return;
+  MapView m(c, *node, f.key("structure"),
+            {"enabled", "blocks", "mode", "plane_strain", "boundary_conditions"});
+  StructureFieldSpec& spec = scene.structure;
+  spec.enabled = get_bool(m, "enabled", true);
+  const std::string blocks_expected =
+      "a list of the elastic blocks: one or more of " + join_list(scene.block_names);
+  const Node blocks = m.require("blocks", blocks_expected);
+  if (!blocks.IsSequence() || blocks.size() == 0)
+    c.wrong_type(blocks, m.key("blocks"), blocks_expected);
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    const std::string key = index_key(m.key("blocks"), i);
+    const std::string b = string_value(c, blocks[i], key, blocks_expected);
+    if (std::find(scene.block_names.begin(), scene.block_names.end(), b) == scene.block_names.end())
+      c.fail(blocks[i], key, "unknown block", b, blocks_expected);
+    if (std::find(scene.fluid.blocks.begin(), scene.fluid.blocks.end(), b) !=
+        scene.fluid.blocks.end())
+      c.fail(blocks[i], key, "block '" + b + "' already holds the fluid", b,
+             "blocks that are not fields.fluid.blocks");
+    if (spec.enabled && !scene.materials.at(b).elastic)
+      c.fail(blocks[i], key, "block '" + b + "' has no elastic constants", b,
+             "materials." + b + " with youngs_modulus, poisson_ratio and density");
+    spec.blocks.push_back(b);
   }
+  spec.mode = get_choice(m, "mode", {"dynamic", "quasi_static"}, spec.mode);
+  spec.plane_strain = get_bool(m, "plane_strain", spec.plane_strain);
+  for_each_boundary_condition(
+      c, m, "structure", face_sets,
+      [&](const MapView& typed, int line, const std::string& boundary) {
+        StructureBc bc;
+        bc.line = line;
+        bc.boundary = boundary;
+        bc.type = get_choice(typed, "type", {"fixed", "displacement"}, std::nullopt);
+        const std::string expected =
+            "a list of 3 expressions (displacement components; \"free\" leaves one free)";
+        if (auto v = typed.get("value")) {
+          if (bc.type == "fixed")
+            c.fail(*v, typed.key("value"), "a fixed condition takes no value", render(*v),
+                   "no value key");
+          if (!v->IsSequence() || v->size() != 3) c.wrong_type(*v, typed.key("value"), expected);
+          for (size_t d = 0; d < 3; ++d) {
+            const Node comp = (*v)[d];
+            bc.value[d] = comp.IsScalar() && comp.Scalar() == "free"
+                              ? "free"
+                              : expression(c, comp, index_key(typed.key("value"), d));
+          }
+        } else if (bc.type == "displacement") {
+          typed.missing("value", expected);
+        }
+        spec.boundary_conditions.push_back(bc);
+      });
+  if (spec.enabled && !scene.fluid.enabled)
+    c.fail(*node, f.key("structure"), "a structure without a fluid field", std::nullopt,
+           "a fields.fluid section as well: scenes load the structure by the flow (FSI)");
+  if (spec.enabled && scene.fluid.mode == "steady" && spec.mode != "quasi_static")
+    c.fail(m.get("mode").value_or(*node), m.key("mode"), "a dynamic structure in a steady flow",
+           spec.mode, "quasi_static (the steady coupled problem), or fields.fluid.mode: transient");
 }
 
 void read_fields(const Checker& c, const Node& node, const std::set<std::string>& face_sets,
                  Scene& scene) {
-  MapView f(c, node, "fields", {"scalar", "fluid"});
+  MapView f(c, node, "fields", {"scalar", "fluid", "structure"});
   read_fluid_field(c, f, face_sets, scene);
+  read_structure_field(c, f, face_sets, scene);
   auto scalar_node = f.get("scalar");
   if (!scalar_node) return;
   MapView s(c, *scalar_node, f.key("scalar"),
@@ -716,6 +811,50 @@ void read_growth(const Checker& c, const Node& node, const std::set<std::string>
   g.checkpoint = get_bool(m, "checkpoint", g.checkpoint);
 }
 
+// fsi: the coupling of fields.structure and fields.fluid; only with both.
+void read_fsi(const Checker& c, const Node& node, const std::set<std::string>& face_sets,
+              Scene& scene) {
+  const bool coupled = scene.structure.enabled && scene.fluid.enabled;
+  if (!coupled) {
+    if (node.IsDefined() && !node.IsNull())
+      c.fail(node, "fsi", "a coupling section without a structure and a fluid", render(node),
+             "fields.structure and fields.fluid, or no fsi section");
+    return;
+  }
+  MapView m(c, node, "fsi",
+            {"interface", "shape_derivatives", "fixed_walls", "sliding_walls", "rel_tol",
+             "max_iterations"});
+  FsiSpec& f = scene.fsi;
+  if (auto n = m.get("interface"))
+    f.interface = boundary_name(c, *n, m.key("interface"), face_sets);
+  else if (scene.growth.enabled)
+    f.interface = scene.growth.interface;
+  else
+    m.missing("interface", "the face set of the fluid-structure interface");
+  f.shape_derivatives =
+      get_choice(m, "shape_derivatives", {"finite_difference", "none"}, f.shape_derivatives);
+  if (auto n = m.get("fixed_walls")) {
+    f.fixed_walls = face_set_list(c, *n, m.key("fixed_walls"), face_sets);
+    f.walls_given = true;
+  }
+  if (auto n = m.get("sliding_walls")) {
+    f.sliding_walls = face_set_list(c, *n, m.key("sliding_walls"), face_sets);
+    f.walls_given = true;
+  }
+  f.rel_tol = get_number(
+      m, "rel_tol", [](double v) { return v > 0 && v < 1; }, "a number in (0, 1)", f.rel_tol);
+  f.max_iterations = get_int(m, "max_iterations", 1, f.max_iterations);
+  // The fluid's velocity on Γ is the structure's: the fluid must hold it (no_slip or velocity).
+  bool held = false;
+  for (const auto& bc : scene.fluid.boundary_conditions)
+    held = held || (bc.boundary == f.interface && (bc.type == "no_slip" || bc.type == "velocity"));
+  if (!held)
+    c.fail(m.get("interface").value_or(node), m.key("interface"),
+           "the fluid has no no_slip condition on the interface", f.interface,
+           "a fields.fluid boundary condition {boundary: " + f.interface +
+               ", type: no_slip} (its velocity is then the structure's)");
+}
+
 void read_mesh_motion(const Checker& c, const Node& node, const std::set<std::string>& face_sets,
                       Scene& scene) {
   MapView m(c, node, "mesh_motion",
@@ -736,8 +875,8 @@ void read_mesh_motion(const Checker& c, const Node& node, const std::set<std::st
 }
 
 Scene read_scene(const Node& root, const Checker& c) {
-  const std::vector<std::string> top = {"mesh",   "materials", "fields", "time",
-                                        "solver", "output",    "growth", "mesh_motion"};
+  const std::vector<std::string> top = {"mesh",   "materials", "fields", "time",       "solver",
+                                        "output", "growth",    "fsi",    "mesh_motion"};
   if (!root.IsDefined() || root.IsNull())
     c.fail(root, "", "the scene is empty", std::nullopt, "a map with keys " + join_list(top));
   MapView m(c, root, "", top, "a map with keys " + join_list(top));
@@ -752,6 +891,11 @@ Scene read_scene(const Node& root, const Checker& c) {
   read_output(c, m.get("output").value_or(Node()), face_sets, scene);
   read_growth(c, m.get("growth").value_or(Node()), face_sets, scene);
   read_mesh_motion(c, m.get("mesh_motion").value_or(Node()), face_sets, scene);
+  read_fsi(c, m.get("fsi").value_or(Node()), face_sets, scene);
+  if (scene.structure.enabled && !scene.fsi.walls_given) {
+    scene.fsi.fixed_walls = scene.mesh_motion.fixed_walls;
+    scene.fsi.sliding_walls = scene.mesh_motion.sliding_walls;
+  }
   return scene;
 }
 

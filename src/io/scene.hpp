@@ -24,6 +24,12 @@ struct MaterialSpec {
   double diffusivity = 0;            // D > 0 [mm^2/ms]
   double monod_rate = 0;             // k >= 0 [1/ms]
   double monod_half_saturation = 0;  // K > 0 when k > 0 [-]
+  // Elastic constants of a structure block (fields.structure); `elastic` says they were given.
+  bool elastic = false;
+  std::string model = "saint_venant_kirchhoff";  // or neo_hooke
+  double youngs_modulus = 0;                     // E > 0 [mass/(mm ms^2)]
+  double poisson_ratio = 0;                      // in (-1, 0.5)
+  double density = 0;                            // rho >= 0 [mass/mm^3]
 };
 
 enum class BcType { Dirichlet, Neumann, Robin };
@@ -73,6 +79,36 @@ struct FluidFieldSpec {
   bool symmetric_viscous = true;          // false: the grad u form (benchmarks' do-nothing outflow)
   std::string preconditioner = "simple";  // simple | simplec | monolithic_amg
   std::vector<FluidBc> boundary_conditions;
+};
+
+// A structure boundary condition on a named face set: fixed (every displacement component zero)
+// or displacement (3 expressions in x, y, z, t; "free" leaves a component free).
+struct StructureBc {
+  std::string boundary;
+  std::string type;  // fixed | displacement
+  std::array<std::string, 3> value = {"0", "0", "0"};
+  int line = 0;
+};
+
+// The biofilm as an elastic body (paper eq. 1) on `blocks`, loaded by the flow (FSI with the
+// fluid field); other blocks' nodes are not part of it.
+struct StructureFieldSpec {
+  bool enabled = false;  // true when the scene has a fields.structure section
+  std::vector<std::string> blocks;
+  std::string mode = "dynamic";  // dynamic (one-step-theta with time.theta) | quasi_static
+  bool plane_strain = false;     // z displacement zero everywhere (one element thick runs)
+  std::vector<StructureBc> boundary_conditions;
+};
+
+// The monolithic coupling of structure, fluid and fluid mesh.
+struct FsiSpec {
+  std::string interface;                                // face set of Γ
+  std::string shape_derivatives = "finite_difference";  // or none
+  // Fluid-mesh walls; empty: those of mesh_motion.
+  std::vector<std::string> fixed_walls, sliding_walls;
+  bool walls_given = false;
+  double rel_tol = 1e-8;
+  int max_iterations = 25;
 };
 
 enum class TimeMode { Transient, Steady };
@@ -138,6 +174,8 @@ struct Scene {
   std::map<std::string, MaterialSpec> materials;  // by block name; every block has one
   ScalarFieldSpec scalar;
   FluidFieldSpec fluid;
+  StructureFieldSpec structure;
+  FsiSpec fsi;
   TimeSpec time;
   SolverSpec solver;
   OutputSpec output;

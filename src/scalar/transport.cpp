@@ -302,25 +302,15 @@ NewtonResult TransportField::step(double dt, const std::string& label) {
     const double t0 = time_;
     Vector start("biofsi::phi_step_start", phi_.extent(0));
     copy(phi_, start);
-    for (int level = 1; level <= settings_.max_step_cuts; ++level) {
-      const int n = 1 << level;
-      try {
-        NewtonResult r;
-        for (int i = 0; i < n; ++i)
-          r = step_once(
-              dt / n, settings_.theta,
-              label + " (sub-step " + std::to_string(i + 1) + "/" + std::to_string(n) + ")", true);
-        ++stats_.cut_steps;
-        return r;
-      } catch (const SolveError&) {
-        copy(start, phi_);
-        copy(start, phi_old_);
-        time_ = t0;
-      }
-    }
-    throw SolveError("scalar", label,
-                     first.why() + "; cutting the step into up to " +
-                         std::to_string(1 << settings_.max_step_cuts) + " sub-steps did not help");
+    return retry_in_sub_steps(
+        first, "scalar", label, dt, settings_.max_step_cuts,
+        [&](double h, const std::string& l) { return step_once(h, settings_.theta, l, true); },
+        [&] {
+          copy(start, phi_);
+          copy(start, phi_old_);
+          time_ = t0;
+        },
+        stats_.cut_steps);
   }
 }
 

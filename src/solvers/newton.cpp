@@ -121,4 +121,26 @@ NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOpti
   return res;
 }
 
+NewtonResult retry_in_sub_steps(
+    const SolveError& first, const std::string& field, const std::string& label, double dt,
+    int max_cuts, const std::function<NewtonResult(double, const std::string&)>& sub_step,
+    const std::function<void()>& restore, int& cut_steps) {
+  for (int level = 1; level <= max_cuts; ++level) {
+    const int n = 1 << level;
+    try {
+      NewtonResult r;
+      for (int i = 0; i < n; ++i)
+        r = sub_step(dt / n,
+                     label + " (sub-step " + std::to_string(i + 1) + "/" + std::to_string(n) + ")");
+      ++cut_steps;
+      return r;
+    } catch (const SolveError&) {
+      restore();
+    }
+  }
+  throw SolveError(field, label,
+                   first.why() + "; cutting the step into up to " + std::to_string(1 << max_cuts) +
+                       " sub-steps did not help");
+}
+
 }  // namespace biofsi

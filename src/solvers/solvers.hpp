@@ -159,6 +159,15 @@ struct NewtonResult {
       reason;  // "converged", "max iterations", "line search failed", "NaN", "linear solver"
 };
 
+// A time step that failed with `first`, retried as 2, 4, ... 2^max_cuts sub-steps: sub_step(dt,
+// label) takes one; restore() puts the fields back to the step's start after a failed try, so
+// that a failure leaves the last valid state. A success counts in cut_steps; when every level
+// fails, throws SolveError(field, label, why first failed and that cutting did not help).
+NewtonResult retry_in_sub_steps(
+    const SolveError& first, const std::string& field, const std::string& label, double dt,
+    int max_cuts, const std::function<NewtonResult(double, const std::string&)>& sub_step,
+    const std::function<void()>& restore, int& cut_steps);
+
 // Solves residual(u) = 0 starting from u (updated in place). Never throws for non-convergence:
 // the caller decides (and raises SolveError with its field and step).
 NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOptions& opt);

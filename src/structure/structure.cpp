@@ -686,28 +686,17 @@ NewtonResult StructureField::step(double dt, const std::string& label) {
     return step_once(dt, label);
   } catch (const SolveError& first) {
     // Cut the step: smaller load or time increments keep Newton inside its region of convergence
-    // (large rotations of a soft body, a sudden load).
-    for (int level = 1; level <= settings_.max_step_cuts; ++level) {
-      const int n = 1 << level;
+    // (large rotations of a soft body, a sudden load). A failed step_once may have left the
+    // state anywhere: back to the start first.
+    auto restore = [&] {
       copy(d0, d_);
       copy(v0, v_);
       time_ = t0;
-      try {
-        NewtonResult r;
-        for (int i = 0; i < n; ++i)
-          r = step_once(dt / n, label + " (sub-step " + std::to_string(i + 1) + "/" +
-                                    std::to_string(n) + ")");
-        ++stats_.cut_steps;
-        return r;
-      } catch (const SolveError&) {
-      }
-    }
-    copy(d0, d_);
-    copy(v0, v_);
-    time_ = t0;
-    throw SolveError("structure", label,
-                     first.why() + "; cutting the step into up to " +
-                         std::to_string(1 << settings_.max_step_cuts) + " sub-steps did not help");
+    };
+    restore();
+    return retry_in_sub_steps(
+        first, "structure", label, dt, settings_.max_step_cuts,
+        [&](double h, const std::string& l) { return step_once(h, l); }, restore, stats_.cut_steps);
   }
 }
 

@@ -61,10 +61,10 @@ struct TurekHronFsi {
 };
 
 inline std::unique_ptr<TurekHronFsi> make_turek_hron(
-    int refine, const FsiCase& c, bool steady, double theta = 0.5,
+    const std::string& mesh_name, const FsiCase& c, bool steady, double theta = 0.5,
     ShapeDerivatives shape = ShapeDerivatives::FiniteDifference) {
   auto th = std::make_unique<TurekHronFsi>();
-  th->mesh = read_gmsh(mesh_file("turek_hron_r" + std::to_string(refine)), benchmark_thickness);
+  th->mesh = read_gmsh(mesh_file(mesh_name), benchmark_thickness);
   const Mesh& mesh = th->mesh;
   for (int n = 0; n < mesh.n_nodes(); ++n)
     if (std::abs(mesh.x[n][0] - 0.6) < 1e-9 && std::abs(mesh.x[n][1] - 0.2) < 1e-9)
@@ -115,10 +115,12 @@ struct Fsi1Reference {
   static constexpr double ux = 2.27e-5, uy = 8.209e-4, drag = 14.295, lift = 0.7638;
 };
 
-inline FsiBenchmarkResult run_fsi1(int refine,
+// mesh_name: a mesh of cases/meshes/turek_hron.geo made by tests/CMakeLists.txt
+// (turek_hron_r<refine>).
+inline FsiBenchmarkResult run_fsi1(const std::string& mesh_name,
                                    ShapeDerivatives shape = ShapeDerivatives::FiniteDifference) {
   FsiCase fc;
-  auto th = make_turek_hron(refine, fc, true, 1.0, shape);
+  auto th = make_turek_hron(mesh_name, fc, true, 1.0, shape);
   FsiBenchmarkResult r;
   const auto start = std::chrono::steady_clock::now();
   const NewtonResult nr = th->fsi->solve_steady("FSI1");
@@ -136,10 +138,11 @@ inline FsiBenchmarkResult run_fsi1(int refine,
   return r;
 }
 
-inline void print_fsi1(int refine, const FsiBenchmarkResult& r) {
+inline void print_fsi1(const std::string& mesh_name, const FsiBenchmarkResult& r) {
+  const char* refine = mesh_name.c_str();
   using R = Fsi1Reference;
   std::printf(
-      "[ measured ] FSI1 refine %d (%d nodes): u_x(A) %.4e (%+.2f%%), u_y(A) %.4e (%+.2f%%), drag "
+      "[ measured ] FSI1 %s (%d nodes): u_x(A) %.4e (%+.2f%%), u_y(A) %.4e (%+.2f%%), drag "
       "%.4f (%+.2f%%), lift %.4f (%+.2f%%); %d Newton, %d Krylov (",
       refine, r.nodes, r.ux, 100 * (r.ux - R::ux) / R::ux, r.uy, 100 * (r.uy - R::uy) / R::uy,
       r.drag, 100 * (r.drag - R::drag) / R::drag, r.lift, 100 * (r.lift - R::lift) / R::lift,
@@ -149,7 +152,7 @@ inline void print_fsi1(int refine, const FsiBenchmarkResult& r) {
   std::printf(" per Newton iteration), %.1f s\n", r.seconds);
   const FsiStats& s = r.stats;
   std::printf(
-      "[ measured ] FSI1 refine %d time [s]: residual %.1f, Jacobian action %.1f (shape "
+      "[ measured ] FSI1 %s time [s]: residual %.1f, Jacobian action %.1f (shape "
       "derivatives %.1f), assembly %.1f, AMG set-up %.1f, preconditioner %.1f (block Krylov: "
       "structure %d its %.1f s, fluid %d its %.1f s, fluid mesh %d its %.1f s)\n",
       refine, s.seconds_residual, s.seconds_tangent, s.seconds_shape, s.seconds_assembly,

@@ -60,6 +60,22 @@ double interface_mismatch(const LayerProblem& lp) {
   return worst;
 }
 
+// The layer problem with the fluid at rest at t = 0.
+LayerProblem make_started_layer(const LayerParameters& p) {
+  LayerProblem lp = make_layer_problem(p);
+  lp.fluid->set_initial(nullptr, nullptr, 0.0);
+  return lp;
+}
+
+// 12 x (3 + 8) elements: enough for the flow to shear the layer visibly, small enough for CI.
+LayerParameters resolved_layer() {
+  LayerParameters p;
+  p.nx = 12;
+  p.ny_solid = 3;
+  p.ny_fluid = 8;
+  return p;
+}
+
 double min_scaled_jacobian(const Mesh& mesh) {
   double q = 1;
   for (const QualityRange& r : mesh_quality_by_block(mesh)) q = std::min(q, r.min);
@@ -69,13 +85,9 @@ double min_scaled_jacobian(const Mesh& mesh) {
 }  // namespace
 
 TEST(FsiSolve, SteadyInterfaceConditionsAndQuadraticNewton) {
-  LayerParameters p;
+  LayerParameters p = resolved_layer();
   p.quasi_static = true;
-  p.nx = 12;
-  p.ny_solid = 3;
-  p.ny_fluid = 8;
-  LayerProblem lp = make_layer_problem(p);
-  lp.fluid->set_initial(nullptr, nullptr, 0.0);
+  LayerProblem lp = make_started_layer(p);
   const NewtonResult r = lp.fsi->solve_steady("steady");
   ASSERT_TRUE(r.converged) << r.reason;
   const auto& h = lp.fsi->stats().last_residuals;
@@ -105,15 +117,11 @@ TEST(FsiSolve, SteadyInterfaceConditionsAndQuadraticNewton) {
 // started impulsively. Partitioned Dirichlet-Neumann iterations diverge in this regime (Causin,
 // Gerbeau & Nobile 2005); the monolithic Newton must converge at every step, without step cuts.
 TEST(FsiSolve, AddedMassDensityRatioOneConverges) {
-  LayerParameters p;
-  p.nx = 12;
-  p.ny_solid = 3;
-  p.ny_fluid = 8;
+  LayerParameters p = resolved_layer();
   p.fluid_density = 1;
   p.solid_density = 1;
   p.youngs_modulus = 5;  // soft enough that the layer moves with the flow it carries
-  LayerProblem lp = make_layer_problem(p);
-  lp.fluid->set_initial(nullptr, nullptr, 0.0);
+  LayerProblem lp = make_started_layer(p);
   int worst = 0;
   for (int i = 1; i <= 12; ++i) {
     const NewtonResult r = lp.fsi->step(0.05, "step " + std::to_string(i));
@@ -136,15 +144,11 @@ TEST(FsiSolve, AddedMassDensityRatioOneConverges) {
 // preconditioner leaves out how the structure's motion changes the fluid (through the geometry
 // only, in a steady problem), which dominates once the structure is that soft.
 TEST(FsiSolve, VerySoftLayerLargeDeformation) {
-  LayerParameters p;
+  LayerParameters p = resolved_layer();
   p.quasi_static = true;
   p.model = NeoHooke;
   p.youngs_modulus = 0.5;
-  p.nx = 12;
-  p.ny_solid = 3;
-  p.ny_fluid = 8;
-  LayerProblem lp = make_layer_problem(p);
-  lp.fluid->set_initial(nullptr, nullptr, 0.0);
+  LayerProblem lp = make_started_layer(p);
   const NewtonResult r = lp.fsi->solve_steady("soft");
   ASSERT_TRUE(r.converged) << r.reason;
   const double dx = max_abs_component(lp.fsi->displacement(), 0);
@@ -165,17 +169,12 @@ TEST(FsiSolve, VerySoftLayerLargeDeformation) {
 // line search fails after 23 iterations with the residual down by only 1e-3, while the exact
 // Jacobian converges quadratically. That is why the shape derivatives are the default.
 TEST(FsiSolve, InexactNewtonWithoutShapeDerivatives) {
-  LayerParameters p;
+  LayerParameters p = resolved_layer();
   p.quasi_static = true;
-  p.nx = 12;
-  p.ny_solid = 3;
-  p.ny_fluid = 8;
-  LayerProblem exact = make_layer_problem(p);
-  exact.fluid->set_initial(nullptr, nullptr, 0.0);
+  LayerProblem exact = make_started_layer(p);
   const NewtonResult re = exact.fsi->solve_steady("exact");
   p.shape = ShapeDerivatives::None;
-  LayerProblem inexact = make_layer_problem(p);
-  inexact.fluid->set_initial(nullptr, nullptr, 0.0);
+  LayerProblem inexact = make_started_layer(p);
   const NewtonResult ri = inexact.fsi->solve_steady("inexact");
   ASSERT_TRUE(re.converged) << re.reason;
   ASSERT_TRUE(ri.converged) << ri.reason;
@@ -195,8 +194,7 @@ TEST(FsiSolve, FailedSolveReportsFieldStepAndHistory) {
   LayerParameters p;
   p.max_iterations = 1;  // cannot reach rel_tol 1e-10 in one iteration
   p.max_step_cuts = 1;
-  LayerProblem lp = make_layer_problem(p);
-  lp.fluid->set_initial(nullptr, nullptr, 0.0);
+  LayerProblem lp = make_started_layer(p);
   const auto d_before = lp.fsi->displacement();
   try {
     lp.fsi->step(0.05, "inner step 7");

@@ -523,10 +523,10 @@ TEST(Scene, ReadsTheFluidField) {
   EXPECT_EQ(f.boundary_conditions[2].line, line_of(with_fluid(kFull), "type: slip"));
   EXPECT_FALSE(parse_scene(kFull, kFile).fluid.enabled);
   // Defaults: the symmetric viscous form of eq. 2 and SIMPLE (the measured best).
-  const Scene d = parse_scene(
-      replaced(replaced(with_fluid(kFull), "    viscous_form: gradient\n", ""),
-               "    preconditioner: simplec\n", ""),
-      kFile);
+  const Scene d =
+      parse_scene(replaced(replaced(with_fluid(kFull), "    viscous_form: gradient\n", ""),
+                           "    preconditioner: simplec\n", ""),
+                  kFile);
   EXPECT_TRUE(d.fluid.symmetric_viscous);
   EXPECT_EQ(d.fluid.preconditioner, "simple");
 }
@@ -604,6 +604,101 @@ TEST(SceneOverrides, RejectMalformedOverridesNamingThem) {
   }
   EXPECT_TRUE(contains(error_of(kFull, {"mesh.blocks.5.ny=3"}), "out of range"));
   EXPECT_TRUE(contains(error_of(kFull, {"time.dt"}), "missing '='"));
+}
+
+// The structure field and the coupling: elastic constants per block, the structure section and
+// the fsi section, every key read; then the checks that keep a coupled scene consistent.
+const std::string kStructure = R"yaml(  structure:
+    blocks: [biofilm]
+    mode: dynamic
+    plane_strain: true
+    boundary_conditions:
+      - {boundary: bottom, type: fixed}
+      - {boundary: left, type: displacement, value: ["0.01*t", free, 0]}
+)yaml";
+const std::string kElastic = R"yaml(    model: neo_hooke
+    youngs_modulus: 1.0e-6
+    poisson_ratio: 0.3
+    density: 1.0e-3
+)yaml";
+const std::string kFsi = R"yaml(fsi:
+  interface: biofilm_fluid
+  shape_derivatives: none
+  fixed_walls: [bottom, top]
+  sliding_walls: [left, right]
+  rel_tol: 1.0e-7
+  max_iterations: 12
+)yaml";
+
+std::string with_structure(const std::string& scene) {
+  std::string s = replaced(with_fluid(scene), "fields:\n", "fields:\n" + kStructure);
+  s = replaced(s, "    monod_half_saturation: 0.1\n",
+               "    monod_half_saturation: 0.1\n" + kElastic);
+  return replaced(s, "time:\n", kFsi + "time:\n");
+}
+
+TEST(Scene, ReadsTheStructureFieldAndTheCoupling) {
+  const Scene s = parse_scene(with_structure(kFull), kFile);
+  EXPECT_TRUE(s.structure.enabled);
+  EXPECT_EQ(s.structure.blocks, std::vector<std::string>{"biofilm"});
+  EXPECT_EQ(s.structure.mode, "dynamic");
+  EXPECT_TRUE(s.structure.plane_strain);
+  ASSERT_EQ(s.structure.boundary_conditions.size(), 2u);
+  EXPECT_EQ(s.structure.boundary_conditions[0].type, "fixed");
+  EXPECT_EQ(s.structure.boundary_conditions[1].type, "displacement");
+  EXPECT_EQ(s.structure.boundary_conditions[1].value[0], "0.01*t");
+  EXPECT_EQ(s.structure.boundary_conditions[1].value[1], "free");
+  const MaterialSpec& m = s.materials.at("biofilm");
+  EXPECT_TRUE(m.elastic);
+  EXPECT_EQ(m.model, "neo_hooke");
+  EXPECT_EQ(m.youngs_modulus, 1e-6);
+  EXPECT_EQ(m.poisson_ratio, 0.3);
+  EXPECT_EQ(m.density, 1e-3);
+  EXPECT_EQ(s.fsi.interface, "biofilm_fluid");
+  EXPECT_EQ(s.fsi.shape_derivatives, "none");
+  EXPECT_EQ(s.fsi.fixed_walls, (std::vector<std::string>{"bottom", "top"}));
+  EXPECT_EQ(s.fsi.sliding_walls, (std::vector<std::string>{"left", "right"}));
+  EXPECT_EQ(s.fsi.rel_tol, 1e-7);
+  EXPECT_EQ(s.fsi.max_iterations, 12);
+  EXPECT_FALSE(parse_scene(kFull, kFile).structure.enabled);
+}
+
+TEST(Scene, RejectsInconsistentCoupledScenes) {
+  const std::string good = with_structure(kFull);
+  // A structure block needs its elastic constants.
+  const std::string no_modulus = replaced(good, "    youngs_modulus: 1.0e-6\n", "");
+  EXPECT_TRUE(contains(error_of(no_modulus), "youngs_modulus")) << error_of(no_modulus);
+  expect_error(replaced(good, "poisson_ratio: 0.3", "poisson_ratio: 0.5"),
+               line_of(good, "poisson_ratio: 0.3"), "materials.biofilm.poisson_ratio", "0.5",
+               "a number in (-1, 0.5)");
+  expect_error(replaced(good, "model: neo_hooke", "model: mooney"), line_of(good, "model:"),
+               "materials.biofilm.model", "mooney", "one of");
+  // The fluid's block cannot also be the structure's.
+  expect_error(replaced(good, "    blocks: [biofilm]\n", "    blocks: [fluid]\n"),
+               line_of(good, "    blocks: [biofilm]"), "fields.structure.blocks[0]", "fluid",
+               "blocks that are not fields.fluid.blocks");
+  // A fixed condition takes no value; a displacement needs one.
+  expect_error(replaced(good, "{boundary: bottom, type: fixed}",
+                        "{boundary: bottom, type: fixed, value: [0, 0, 0]}"),
+               line_of(good, "type: fixed"), "fields.structure.boundary_conditions[0].value", "",
+               "no value key");
+  // A dynamic structure in a steady flow has no steady coupled problem.
+  const std::string steady = replaced(good, "    mode: transient\n", "    mode: steady\n");
+  expect_error(steady, line_of(steady, "mode: dynamic"), "fields.structure.mode", "dynamic",
+               "quasi_static");
+  // The interface must carry the fluid's no-slip condition (its velocity becomes the structure's).
+  const std::string slip_interface = replaced(good, "{boundary: biofilm_fluid, type: no_slip}",
+                                              "{boundary: biofilm_fluid, type: slip}");
+  expect_error(slip_interface, line_of(slip_interface, "interface: biofilm_fluid"), "fsi.interface",
+               "biofilm_fluid", "a fields.fluid boundary condition");
+  expect_error(replaced(good, "shape_derivatives: none", "shape_derivatives: exact"),
+               line_of(good, "shape_derivatives"), "fsi.shape_derivatives", "exact", "one of");
+  expect_error(replaced(good, "rel_tol: 1.0e-7", "rel_tol: 2"), line_of(good, "rel_tol: 1.0e-7"),
+               "fsi.rel_tol", "2", "a number in (0, 1)");
+  // A coupling section without the fields it couples.
+  const std::string lonely = replaced(kFull, "time:\n", kFsi + "time:\n");
+  expect_error(lonely, line_of(lonely, "interface: biofilm_fluid"), "fsi", "",
+               "fields.structure and fields.fluid, or no fsi section");
 }
 
 }  // namespace
