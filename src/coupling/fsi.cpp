@@ -71,27 +71,6 @@ CouplingBlock make_coupling(const CsrMatrix& source, const std::vector<int>& row
   return b;
 }
 
-std::vector<char> host_mask(Kokkos::View<const char*, MemSpace> m) {
-  auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), m);
-  return std::vector<char>(h.data(), h.data() + h.extent(0));
-}
-
-Kokkos::View<char*, MemSpace> device_mask(const std::vector<char>& m, const std::string& label) {
-  Kokkos::View<char*, MemSpace> d(label, m.size());
-  auto h = Kokkos::create_mirror_view(d);
-  for (size_t i = 0; i < m.size(); ++i) h(i) = m[i];
-  Kokkos::deep_copy(d, h);
-  return d;
-}
-
-IndexView device_indices(const std::vector<int>& v, const std::string& label) {
-  IndexView d(label, v.size());
-  auto h = Kokkos::create_mirror_view(d);
-  for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
-  Kokkos::deep_copy(d, h);
-  return d;
-}
-
 double max_abs(ConstVector v) {
   double m = 0;
   Kokkos::parallel_reduce(
@@ -175,7 +154,7 @@ FsiProblem::FsiProblem(const Mesh& mesh, FluidField& fluid, StructureField& stru
   std::vector<char> fluid_node(nn, 0), on_gamma(nn, 0);
   for (int e : fluid.elements())
     for (int a : mesh.conn[e]) fluid_node[a] = 1;
-  const std::vector<char> fluid_fixed = host_mask(fluid.constrained_mask());
+  const std::vector<char> fluid_fixed = to_host(fluid.constrained_mask());
   for (int n : gamma) {
     if (!m.structure_node[n] || !fluid_node[n])
       throw std::invalid_argument("fsi: interface node " + std::to_string(n) + " of '" +
@@ -189,15 +168,15 @@ FsiProblem::FsiProblem(const Mesh& mesh, FluidField& fluid, StructureField& stru
             settings.interface + "': its velocity there is condensed");
     on_gamma[n] = 1;
   }
-  m.interface = device_indices(gamma, "biofsi::fsi_interface");
-  m.interface_node = device_mask(on_gamma, "biofsi::fsi_interface_mask");
+  m.interface = to_device(gamma, "biofsi::fsi_interface");
+  m.interface_node = to_device(on_gamma, "biofsi::fsi_interface_mask");
   m.structure_fixed = structure.constrained_mask();
   m.fluid_fixed = fluid.constrained_mask();
 
   // Coupling patterns of the fluid Jacobian: free fluid rows x condensed velocity columns (as
   // structure dofs), and interface momentum rows (as structure rows) x free fluid columns.
   {
-    const std::vector<char> structure_fixed = host_mask(structure.constrained_mask());
+    const std::vector<char> structure_fixed = to_host(structure.constrained_mask());
     std::vector<int> free_rows(4 * nn, -1), velocity_columns(4 * nn, -1), gamma_rows(4 * nn, -1),
         free_columns(4 * nn, -1);
     for (int i = 0; i < 4 * nn; ++i)
@@ -228,7 +207,7 @@ FsiProblem::FsiProblem(const Mesh& mesh, FluidField& fluid, StructureField& stru
       for (int c = 0; c < 3; ++c) eliminated[3 * n + c] = 1;
     m.mesh_fixed_dofs = fixed.dofs();
     m.mesh_fixed_values = fixed.values();
-    m.mesh_eliminated = device_mask(eliminated, "biofsi::fsi_mesh_eliminated");
+    m.mesh_eliminated = to_device(eliminated, "biofsi::fsi_mesh_eliminated");
   }
   m.mesh_groups = make_element_groups(mesh, fluid.elements(), settings.mesh_motion.scatter);
   m.mesh_matrix = make_sparsity(mesh, fluid.elements(), 3);
@@ -284,7 +263,7 @@ void FsiProblem::set_reference(const Mesh& mesh) {
     m.mesh_op.assemble(m.mesh_groups, Vector("biofsi::zero", 3 * n_nodes_), m.mesh_matrix);
   }
   {
-    const std::vector<char> eliminated = host_mask(m.mesh_eliminated);
+    const std::vector<char> eliminated = to_host(m.mesh_eliminated);
     std::vector<int> row_of(3 * n_nodes_, -1), column_of(3 * n_nodes_, -1);
     for (int i = 0; i < 3 * n_nodes_; ++i)
       if (!eliminated[i]) row_of[i] = i;
@@ -685,6 +664,8 @@ NewtonResult FsiProblem::solve() {
     res.reason = "NaN";
     return res;
   }
+  NewtonOptions forcing;  // Eisenstat-Walker constants; only the bounds are the coupling's own
+  forcing.eta_max = st.eta_max;
   double eta = st.eta_max, ratio_prev = 1;
   std::array<double, 3> floors{};  // none before the first assembly
   while (true) {
@@ -711,17 +692,12 @@ NewtonResult FsiProblem::solve() {
     double merit0 = 0;
     for (int i = 0; i < 3; ++i) merit0 += std::pow(norms[i] / scale[i], 2);
 
-    if (res.iterations > 0) {
-      eta = 0.9 * std::pow(ratio_prev, 2.0);
-      const double from_prev = 0.9 * eta * eta;
-      if (from_prev > 0.1) eta = std::max(eta, from_prev);
-    }
-    // No tighter than the Newton tolerance needs: a linear solve asked to go below the field
-    // tolerances (round-off floors included) near convergence only runs out of iterations.
+    // The scaled residual's contraction drives the forcing term; its floor is the loosest
+    // solve with which every field still meets its tolerance (safety factor 10).
     double needed = 1;
     for (int i = 0; i < 3; ++i)
       if (norms[i] > 0) needed = std::min(needed, tol[i] / norms[i]);
-    eta = std::min(std::max({eta, 1e-10, 0.1 * needed}), st.eta_max);
+    eta = forcing_term(forcing, res.iterations, ratio_prev, eta, 0.1 * needed);
 
     linearise(m, x_);
     setup_preconditioner(m, stats_);
@@ -880,8 +856,8 @@ NewtonResult FsiProblem::solve_steady(const std::string& label) {
 
 std::vector<char> FsiProblem::free_dofs() const {
   const Impl& m = *impl_;
-  const auto s = host_mask(m.structure_fixed), f = host_mask(m.fluid_fixed),
-             g = host_mask(m.mesh_eliminated);
+  const auto s = to_host(m.structure_fixed), f = to_host(m.fluid_fixed),
+             g = to_host(m.mesh_eliminated);
   std::vector<char> out;
   for (char c : s) out.push_back(!c);
   for (char c : f) out.push_back(!c);

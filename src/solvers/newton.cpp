@@ -18,22 +18,18 @@ Vector make_vector(const std::string& label, int n) {
   return Vector(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), n);
 }
 
-// Eisenstat-Walker choice 2 with their safeguard against a sudden drop of eta (when the previous
-// eta was already large) and with a floor at the level where the next iterate would already meet
-// the nonlinear tolerance (solving more accurately than that is wasted work).
-Real forcing_term(const NewtonOptions& opt, int k, Real r_norm, Real r_prev, Real eta_prev,
-                  Real tol) {
+}  // namespace
+
+Real forcing_term(const NewtonOptions& opt, int k, Real contraction, Real eta_prev, Real floor) {
   Real eta = opt.eta_max;
   if (k > 0) {
-    eta = opt.gamma * std::pow(r_norm / r_prev, opt.alpha);
+    eta = opt.gamma * std::pow(contraction, opt.alpha);
     const Real from_prev = opt.gamma * std::pow(eta_prev, opt.alpha);
     if (from_prev > 0.1) eta = std::max(eta, from_prev);
   }
-  eta = std::max(std::min(eta, opt.eta_max), 0.5 * tol / r_norm);
+  eta = std::max(std::min(eta, opt.eta_max), floor);
   return std::max(std::min(eta, opt.eta_max), opt.eta_min);
 }
-
-}  // namespace
 
 NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOptions& opt) {
   NewtonResult res;
@@ -67,7 +63,7 @@ NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOpti
       break;
     }
 
-    eta = forcing_term(opt, res.iterations, r_norm, r_prev, eta, tol);
+    eta = forcing_term(opt, res.iterations, r_norm / r_prev, eta, 0.5 * tol / r_norm);
     if (system.setup_preconditioner) system.setup_preconditioner(u);
     KrylovOptions kopt = opt.krylov;
     kopt.rel_tol = eta;

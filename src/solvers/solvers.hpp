@@ -25,9 +25,25 @@ void scale(Real alpha, Vector x);                            // x *= alpha
 void fill(Vector x, Real value);
 void copy(ConstVector from, Vector to);
 
-// Host copies of dof vectors (set-up, output and verification; never inside solver loops).
-std::vector<double> to_host_vector(ConstVector d);
-Vector to_device_vector(const std::vector<double>& v, const std::string& label);
+// Host and device copies of 1-D views (set-up, output and verification; never inside solver
+// loops): any element type (dof values, indices, masks).
+template <class View>
+std::vector<typename View::non_const_value_type> to_host(const View& d) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d);
+  return std::vector<typename View::non_const_value_type>(h.data(), h.data() + h.extent(0));
+}
+template <class T>
+Kokkos::View<T*, MemSpace> to_device(const std::vector<T>& v, const std::string& label) {
+  Kokkos::View<T*, MemSpace> d(label, v.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+inline std::vector<double> to_host_vector(ConstVector d) { return to_host(d); }
+inline Vector to_device_vector(const std::vector<double>& v, const std::string& label) {
+  return to_device(v, label);
+}
 
 // Accumulates the fenced wall time of a scope into `seconds` (per-phase timings of the fields).
 class ScopedTimer {
@@ -167,6 +183,13 @@ NewtonResult retry_in_sub_steps(
     const SolveError& first, const std::string& field, const std::string& label, double dt,
     int max_cuts, const std::function<NewtonResult(double, const std::string&)>& sub_step,
     const std::function<void()>& restore, int& cut_steps);
+
+// Eisenstat-Walker choice 2 for Newton iteration k: gamma contraction^alpha (contraction =
+// ||r_k|| / ||r_{k-1}||), with their safeguard against a sudden drop of eta when the previous one
+// was already large, and `floor`: the eta at which the next iterate would already meet the
+// nonlinear tolerance (solving more accurately than that is wasted work, and below round-off it
+// only exhausts the Krylov iterations). Clipped to [eta_min, eta_max].
+Real forcing_term(const NewtonOptions& opt, int k, Real contraction, Real eta_prev, Real floor);
 
 // Solves residual(u) = 0 starting from u (updated in place). Never throws for non-convergence:
 // the caller decides (and raises SolveError with its field and step).

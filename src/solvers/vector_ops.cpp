@@ -13,19 +13,6 @@ using Policy = Kokkos::RangePolicy<ExecSpace>;
 Policy range(const ConstVector& v) { return Policy(0, static_cast<int>(v.extent(0))); }
 }  // namespace
 
-std::vector<double> to_host_vector(ConstVector d) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d);
-  return std::vector<double>(h.data(), h.data() + h.extent(0));
-}
-
-Vector to_device_vector(const std::vector<double>& v, const std::string& label) {
-  Vector d(label, v.size());
-  auto h = Kokkos::create_mirror_view(d);
-  for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
-  Kokkos::deep_copy(d, h);
-  return d;
-}
-
 Real dot(ConstVector a, ConstVector b) {
   Real s = 0;
   Kokkos::parallel_reduce(

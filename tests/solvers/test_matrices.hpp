@@ -33,20 +33,9 @@ struct HostCsr {
   }
 };
 
-template <class T>
-Kokkos::View<T*, MemSpace> to_device(const std::vector<T>& h, const std::string& label) {
-  Kokkos::View<T*, MemSpace> d(label, h.size());
-  Kokkos::View<const T*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> hv(h.data(), h.size());
-  Kokkos::deep_copy(d, hv);
-  return d;
-}
-
-inline std::vector<double> to_host(ConstVector d) {
-  std::vector<double> h(d.extent(0));
-  Kokkos::View<double*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> hv(h.data(), h.size());
-  Kokkos::deep_copy(hv, d);
-  return h;
-}
+// The vector copies are the library's (src/solvers/solvers.hpp); this file adds the CSR one.
+using biofsi::to_device;
+using biofsi::to_host;
 
 inline CsrMatrix to_device(const HostCsr& h) {
   CsrMatrix a;
