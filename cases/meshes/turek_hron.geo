@@ -9,7 +9,10 @@
 // lift converged slowly (CFD1 +7.8% at refine 2, +5.1% at refine 4), the Q1-Q1 solution being
 // sensitive to the distorted quads that subdividing triangles leaves.
 // Parameters (gmsh -setnumber NAME VALUE): refine (1 = coarse; every division count scales with
-// refine, every grading ratio with its refine-th root, so that the meshes are nested in shape).
+// refine, every grading ratio with its refine-th root, so that the meshes are nested in shape);
+// c_up, c_box, c_flag, c_wake, c_wall, c_side, c_thick, c_ring (divisions at refine 1) and g_ring,
+// g_side, g_wake (grading ratios at refine 1) override the defaults below, for mesh studies
+// (tests/coupling/test_fsi_benchmarks.cpp records one); the defaults give the meshes the tests use.
 SetFactory("Built-in");
 If (!Exists(refine))
   refine = 1;
@@ -19,18 +22,30 @@ xc = 0.2; yc = 0.2; r = 0.05;
 xa = xc + Sqrt(r^2 - 0.01^2);  // where the flag's long sides meet the circle
 s = r / Sqrt(2);
 
-// Divisions (elements) per patch edge at refine 1.
-n_up = Round(4 * refine);     // x in [0, 0.1]
-n_box = Round(10 * refine);   // a box side [0.1, 0.3] and the 90-degree arcs facing it
-n_flag = Round(40 * refine);  // x in [0.3, 0.6], along the flag and the fluid above and below it
-n_wake = Round(50 * refine);  // x in [0.6, 2.5]
-n_wall = Round(5 * refine);   // y in [0, 0.1] and [0.3, 0.41]
-n_side = Round(6 * refine);   // y in [0.1, 0.19] and [0.21, 0.3], and the arcs between flag and box corner
-n_thick = 2 * Round(2 * refine);  // through the flag (even: point A is a node)
-n_ring = Round(8 * refine);   // radial, cylinder to box (and the flag's root patch)
-q_ring = 1.1^(1 / refine);   // element growth away from the cylinder
-q_side = 1.2^(1 / refine);   // away from the flag
-q_wake = 1.04^(1 / refine);  // downstream
+// Divisions (elements) per patch edge at refine 1, and grading ratios; each can be overridden
+// (-setnumber) for mesh studies.
+If (!Exists(c_up)) c_up = 4; EndIf
+If (!Exists(c_box)) c_box = 10; EndIf
+If (!Exists(c_flag)) c_flag = 40; EndIf
+If (!Exists(c_wake)) c_wake = 50; EndIf
+If (!Exists(c_wall)) c_wall = 5; EndIf
+If (!Exists(c_side)) c_side = 6; EndIf
+If (!Exists(c_thick)) c_thick = 2; EndIf
+If (!Exists(c_ring)) c_ring = 8; EndIf
+If (!Exists(g_ring)) g_ring = 1.1; EndIf
+If (!Exists(g_side)) g_side = 1.2; EndIf
+If (!Exists(g_wake)) g_wake = 1.04; EndIf
+n_up = Round(c_up * refine);     // x in [0, 0.1]
+n_box = Round(c_box * refine);   // a box side [0.1, 0.3] and the 90-degree arcs facing it
+n_flag = Round(c_flag * refine);  // x in [0.3, 0.6], along the flag and the fluid above and below it
+n_wake = Round(c_wake * refine);  // x in [0.6, 2.5]
+n_wall = Round(c_wall * refine);   // y in [0, 0.1] and [0.3, 0.41]
+n_side = Round(c_side * refine);   // y in [0.1, 0.19] and [0.21, 0.3], and the arcs between flag and box corner
+n_thick = 2 * Round(c_thick * refine);  // through the flag (even: point A is a node)
+n_ring = Round(c_ring * refine);   // radial, cylinder to box (and the flag's root patch)
+q_ring = g_ring^(1 / refine);   // element growth away from the cylinder
+q_side = g_side^(1 / refine);   // away from the flag
+q_wake = g_wake^(1 / refine);  // downstream
 
 Point(1) = {0, 0, 0};      Point(2) = {0.1, 0, 0};    Point(3) = {0.3, 0, 0};
 Point(4) = {0.6, 0, 0};    Point(5) = {2.5, 0, 0};
