@@ -70,13 +70,10 @@ struct FsiSettings {
   // AMG to this relative tolerance (0: the field's preconditioner applied once). Why: the slender
   // flag's systems AMG and the fluid's SIMPLE each need ~50-80 iterations per solve, which the
   // restarted outer FGMRES over the matrix-free operator cannot afford (it stagnated on FSI1);
-  // inner iterations cost CSR products instead of matrix-free applications. Measured on FSI1
-  // (1 thread; outer FGMRES iterations, time): refine 1: 1e-1 > 6 min, 3e-2 256 / 184 s,
-  // 1e-2 104 / 93 s, 3e-3 56 / 58 s, 3e-4 45 / 53 s; refine 2: 1e-2 313 / 1191 s (2 threads),
-  // 3e-3 92 / 691 s, 3e-4 52 / 490 s (a loose block solve leaves the outer iteration to recover
-  // what it skipped, at a whole sweep per iteration), so the FSI1 tests use 3e-4. The default
-  // stays 1e-2: case (c) of the main job with 3e-4 ran its first 50 growth steps at the earlier
-  // pace and then did not finish steps 51-60 in 8 minutes (not investigated further).
+  // inner iterations cost CSR products instead of matrix-free applications. Tighter is faster on
+  // FSI1 (refine 2: 1e-2 313 outer iterations, 3e-4 52; table in bench/README.md), so the FSI1
+  // tests use 3e-4; the default stays 1e-2 because case (c) stalled at growth step ~51 with 3e-4
+  // (not investigated).
   double inner_tolerance = 1e-2;
   int inner_max_iterations = 100;
   // A time step whose Newton solve fails is retried as 2, 4, ... 2^max_step_cuts sub-steps.
