@@ -62,7 +62,9 @@ struct TurekHronFsi {
 
 inline std::unique_ptr<TurekHronFsi> make_turek_hron(
     const std::string& mesh_name, const FsiCase& c, bool steady, double theta = 0.5,
-    ShapeDerivatives shape = ShapeDerivatives::FiniteDifference) {
+    ShapeDerivatives shape = ShapeDerivatives::FiniteDifference,
+    const std::function<void(FsiSettings&)>& tweak = nullptr,
+    const std::function<void(FluidSettings&)>& fluid_tweak = nullptr) {
   auto th = std::make_unique<TurekHronFsi>();
   th->mesh = read_gmsh(mesh_file(mesh_name), benchmark_thickness);
   const Mesh& mesh = th->mesh;
@@ -74,6 +76,7 @@ inline std::unique_ptr<TurekHronFsi> make_turek_hron(
   fs.blocks = {"fluid"};
   fs.symmetric_viscous = false;  // the benchmarks' do-nothing outflow (see fluid_benchmarks.hpp)
   fs.theta = theta;
+  if (fluid_tweak) fluid_tweak(fs);
   const double h = 0.41, u_max = 1.5 * c.u_mean;
   TurekHronFsi* self = th.get();
   const FluidFunction inflow = [h, u_max, self](const Point& x, double t) {
@@ -108,6 +111,7 @@ inline std::unique_ptr<TurekHronFsi> make_turek_hron(
   // Tighter block solves than the default: 52 instead of 313 outer iterations on FSI1 refine 2
   // (FsiSettings::inner_tolerance).
   fsi.inner_tolerance = 3e-4;
+  if (tweak) tweak(fsi);
   th->fsi = std::make_unique<FsiProblem>(mesh, *th->fluid, *th->structure, fsi);
   th->fluid->set_initial(nullptr, nullptr, 0.0);
   return th;

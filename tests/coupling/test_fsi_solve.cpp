@@ -211,3 +211,30 @@ TEST(FsiSolve, FailedSolveReportsFieldStepAndHistory) {
   const auto d_after = lp.fsi->displacement();
   for (size_t n = 0; n < d_before.size(); ++n) ASSERT_EQ(d_after[n][0], d_before[n][0]);
 }
+
+// Diagnostic, not in any suite (run with --gtest_also_run_disabled_tests
+// --gtest_filter=*SoftLayerInTime*): is there a steady state where the steady solve fails? The
+// E = 0.15 layer of VerySoftLayerLargeDeformation in time (dynamic structure, theta 0.66,
+// dt 0.05, from rest). Measured: every step converges (3-4 Newton, 17-28 Krylov, no cuts); the
+// layer creeps downstream to |d_x| = 0.20 (80% of its thickness) by t = 4.5, with the solid's
+// element at the downstream clamped corner (0.96, 0.04) losing quality (scaled Jacobian 0.11 at
+// t = 1.2, 0.49 at 2.5, 0.13 at 4.25) until it inverts (-0.10 at t = 4.5, -0.38 at 4.9) while
+// Newton still converges at its quadrature points. So on this mesh the steady state at E = 0.15
+// is not reachable without inverting that element: the limit is the clamped corner's
+// discretisation under an 80% shear, not the coupled solver. (A 2x finer layer inverts an
+// element at the inflow corner in the impulsive start's second step instead.) Prints the
+// history; asserts only that the early steps converge.
+TEST(FsiSolve, DISABLED_SoftLayerInTimeCreepsToTheCornerInversion) {
+  LayerParameters p = resolved_layer();
+  p.model = NeoHooke;
+  p.youngs_modulus = 0.15;
+  LayerProblem lp = make_started_layer(p);
+  for (int i = 1; i <= 100; ++i) {
+    const NewtonResult r = lp.fsi->step(0.05, "soft step " + std::to_string(i));
+    ASSERT_TRUE(r.converged) << r.reason;
+    const QualityRange worst = mesh_quality_by_block(lp.fsi->current_mesh())[0];  // the solid
+    std::printf("t %.2f: %d Newton, %d Krylov, max |d_x| %.4f, solid quality %.3f (element %d)\n",
+                0.05 * i, r.iterations, r.krylov_iterations,
+                max_abs_component(lp.fsi->displacement(), 0), worst.min, worst.worst_element);
+  }
+}

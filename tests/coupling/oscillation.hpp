@@ -1,0 +1,79 @@
+// Mean, amplitude and frequency of a sampled periodic signal, as the Turek & Hron (2006) benchmark
+// reports them: over the last full period, mean = (max + min) / 2, amplitude = (max - min) / 2,
+// frequency = 1 / period. Extremum times and values are refined by a parabola through each
+// discrete extremum and its two neighbours, since the runs resolve a period with only ~20-50 steps.
+// Header-only so that the default suite tests it (test_oscillation.cpp) and the long runs use it.
+#pragma once
+
+#include <algorithm>
+#include <utility>
+#include <vector>
+
+namespace biofsi {
+namespace test {
+
+struct Oscillation {
+  double mean = 0, amplitude = 0, frequency = 0;
+  int periods = 0;  // full periods found in the analysed window
+};
+
+// The vertex of the parabola through (t[i-1], y[i-1]), (t[i], y[i]), (t[i+1], y[i+1]) on a uniform
+// step: the refined extremum time and value.
+inline std::pair<double, double> parabolic_extremum(const std::vector<double>& t,
+                                                    const std::vector<double>& y, size_t i) {
+  const double a = y[i - 1], b = y[i], c = y[i + 1];
+  const double denominator = a - 2 * b + c;
+  if (denominator == 0) return {t[i], b};
+  const double offset = 0.5 * (a - c) / denominator;  // in steps, within (-1, 1) at an extremum
+  const double h = t[i + 1] - t[i];
+  return {t[i] + offset * h, b - 0.25 * (a - c) * offset};
+}
+
+// Periods are delimited by upward crossings of the window's mid-level, each counted only after
+// the signal has been a quarter of the range below it: step-to-step jitter (Crank-Nicolson's
+// undamped pressure mode shows in the forces) cannot then create extra periods, as it could
+// extra local maxima near a flat peak. Frequency from the last `periods` periods; mean and
+// amplitude from the extremes of the last one, each refined by the parabola.
+inline Oscillation analyse(const std::vector<double>& t, const std::vector<double>& y,
+                           double t_from, int periods) {
+  Oscillation o;
+  size_t first = 0;
+  while (first < t.size() && t[first] < t_from) ++first;
+  if (first + 3 > y.size()) return o;
+  const auto range = std::minmax_element(y.begin() + first, y.end());
+  const double mid = 0.5 * (*range.first + *range.second);
+  const double quarter = 0.25 * (*range.second - *range.first);
+  if (!(quarter > 0)) return o;
+  std::vector<double> crossing_time;
+  std::vector<size_t> crossing_index;
+  bool armed = false;
+  for (size_t i = first + 1; i < y.size(); ++i) {
+    if (y[i] < mid - quarter) armed = true;
+    if (armed && y[i - 1] < mid && y[i] >= mid) {
+      const double s = (mid - y[i - 1]) / (y[i] - y[i - 1]);
+      crossing_time.push_back(t[i - 1] + s * (t[i] - t[i - 1]));
+      crossing_index.push_back(i);
+      armed = false;
+    }
+  }
+  if (crossing_time.size() < 2) return o;
+  o.periods = static_cast<int>(crossing_time.size()) - 1;
+  const int n = std::min(periods, o.periods);
+  o.frequency = n / (crossing_time.back() - crossing_time[crossing_time.size() - 1 - n]);
+  const size_t begin = crossing_index[crossing_index.size() - 2], end = crossing_index.back();
+  size_t i_max = begin, i_min = begin;
+  for (size_t i = begin; i < end; ++i) {
+    if (y[i] > y[i_max]) i_max = i;
+    if (y[i] < y[i_min]) i_min = i;
+  }
+  auto refined = [&](size_t i) {
+    return (i > 0 && i + 1 < y.size()) ? parabolic_extremum(t, y, i).second : y[i];
+  };
+  const double high = refined(i_max), low = refined(i_min);
+  o.mean = 0.5 * (high + low);
+  o.amplitude = 0.5 * (high - low);
+  return o;
+}
+
+}  // namespace test
+}  // namespace biofsi
