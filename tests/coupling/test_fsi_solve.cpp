@@ -213,18 +213,20 @@ TEST(FsiSolve, FailedSolveReportsFieldStepAndHistory) {
 }
 
 // Diagnostic, not in any suite (run with --gtest_also_run_disabled_tests
-// --gtest_filter=*SoftLayerInTime*): is there a steady state where the steady solve fails? The
-// E = 0.15 layer of VerySoftLayerLargeDeformation in time (dynamic structure, theta 0.66,
-// dt 0.05, from rest). Measured: every step converges (3-4 Newton, 17-28 Krylov, no cuts); the
-// layer creeps downstream to |d_x| = 0.20 (80% of its thickness) by t = 4.5, with the solid's
-// element at the downstream clamped corner (0.96, 0.04) losing quality (scaled Jacobian 0.11 at
-// t = 1.2, 0.49 at 2.5, 0.13 at 4.25) until it inverts (-0.10 at t = 4.5, -0.38 at 4.9) while
-// Newton still converges at its quadrature points. So on this mesh the steady state at E = 0.15
-// is not reachable without inverting that element: the limit is the clamped corner's
-// discretisation under an 80% shear, not the coupled solver. (A 2x finer layer inverts an
-// element at the inflow corner in the impulsive start's second step instead.) Prints the
-// history; asserts only that the early steps converge.
-TEST(FsiSolve, DISABLED_SoftLayerInTimeCreepsToTheCornerInversion) {
+// --gtest_filter=*SoftLayerInTime*, 15 s): is there a steady state where the steady solve fails?
+// The E = 0.15 layer of VerySoftLayerLargeDeformation in time (dynamic structure, theta 0.66,
+// dt 0.05, from rest). Measured: every step converges (3-4 Newton, 16-31 Krylov, no cuts); the
+// layer creeps downstream to |d_x| = 0.20 (80% of its thickness) by t = 4.5, compressed against
+// its clamped downstream side, and its surface folds there: the solid's top element and the
+// fluid's bottom element at x ~ 0.8 degrade together (fluid 0.84 -> 0.31 -> -0.14 scaled
+// Jacobian at t = 3.05, 4.05, 4.55; solid 0.45 at 4.55, 0.02 at 5.05) while Newton still
+// converges at the quadrature points. A stiffer fluid mesh motion does not help (stiffening
+// exponent 0, 1, 2: the same numbers; the layer's fluid cells are uniform, and the one that
+// inverts has the interface as its bottom face). What it looks like is a compressed soft layer
+// creasing at its free surface (Biot's surface instability of a neo-Hookean solid, from ~35%
+// compression; the local strain at the fold was not measured): a mesh resolving the crease is
+// needed, not a stronger coupled solver. Prints the history; asserts only that the steps converge.
+TEST(FsiSolve, DISABLED_SoftLayerInTimeFoldsAtItsSurface) {
   LayerParameters p = resolved_layer();
   p.model = NeoHooke;
   p.youngs_modulus = 0.15;
@@ -232,9 +234,16 @@ TEST(FsiSolve, DISABLED_SoftLayerInTimeCreepsToTheCornerInversion) {
   for (int i = 1; i <= 100; ++i) {
     const NewtonResult r = lp.fsi->step(0.05, "soft step " + std::to_string(i));
     ASSERT_TRUE(r.converged) << r.reason;
-    const QualityRange worst = mesh_quality_by_block(lp.fsi->current_mesh())[0];  // the solid
-    std::printf("t %.2f: %d Newton, %d Krylov, max |d_x| %.4f, solid quality %.3f (element %d)\n",
-                0.05 * i, r.iterations, r.krylov_iterations,
-                max_abs_component(lp.fsi->displacement(), 0), worst.min, worst.worst_element);
+    const Mesh current = lp.fsi->current_mesh();
+    const auto q = mesh_quality_by_block(current);
+    std::printf("t %.2f: %d Newton, %d Krylov, max |d_x| %.4f, quality", 0.05 * i, r.iterations,
+                r.krylov_iterations, max_abs_component(lp.fsi->displacement(), 0));
+    for (size_t b = 0; b < q.size(); ++b) {
+      Point c{0, 0, 0};  // the worst element's reference centre
+      for (int k = 0; k < 8; ++k)
+        for (int d = 0; d < 3; ++d) c[d] += lp.mesh.x[lp.mesh.conn[q[b].worst_element][k]][d] / 8;
+      std::printf(" %s %.3f at (%.2f, %.2f)", lp.mesh.block_names[b].c_str(), q[b].min, c[0], c[1]);
+    }
+    std::printf("\n");
   }
 }
