@@ -1,8 +1,8 @@
 // Turek & Hron (2006) FSI2 and FSI3: the elastic flag behind the cylinder oscillating in the flow
 // it sheds (fsi_benchmarks.hpp), run from rest to a periodic state and compared with the
 // benchmark's mean, amplitude and frequency of u_x(A), u_y(A), drag and lift. Label long: on the
-// development machine these take about two hours each on one thread (what they measured: README,
-// "Known limits").
+// development machine these take several hours each on one thread (what they measured so far:
+// README, "Known limits").
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_REFINE [1], BIOFSI_FSI_DT [FSI2
 // 0.02, FSI3 0.01], BIOFSI_FSI_T_END [FSI2 15, FSI3 8], BIOFSI_FSI_RAMP [0.5], BIOFSI_FSI_SIMPLE
