@@ -95,14 +95,15 @@ UnsteadyCase fsi3() {
   return c;
 }
 
-void write_series(const std::string& folder, int number, const Series& s) {
+// Appends the series' newest row (and the header with the first), so a run stopped at any
+// point leaves every finished step on disk without rewriting the file each step.
+void append_last_row(const std::string& folder, int number, const Series& s) {
   const std::string path = folder + "/fsi" + std::to_string(number) + "_series.csv";
-  std::ofstream out(path);
-  out << "t,ux,uy,drag,lift\n";
+  std::ofstream out(path, s.t.size() == 1 ? std::ios::trunc : std::ios::app);
+  if (s.t.size() == 1) out << "t,ux,uy,drag,lift\n";
   out.precision(10);
-  for (size_t i = 0; i < s.t.size(); ++i)
-    out << s.t[i] << ',' << s.ux[i] << ',' << s.uy[i] << ',' << s.drag[i] << ',' << s.lift[i]
-        << '\n';
+  const size_t i = s.t.size() - 1;
+  out << s.t[i] << ',' << s.ux[i] << ',' << s.uy[i] << ',' << s.drag[i] << ',' << s.lift[i] << '\n';
 }
 
 Series run(const UnsteadyCase& c) {
@@ -147,7 +148,6 @@ Series run(const UnsteadyCase& c) {
     // step named, rather than integrate on an inverted element.
     for (const QualityRange& q : mesh_quality_by_block(th->fsi->current_mesh()))
       if (!(q.min > 0)) {
-        if (folder) write_series(folder, c.number, s);
         ADD_FAILURE() << "FSI" << c.number << " step " << i << " (t = " << i * dt << "): element "
                       << q.worst_element << " inverted (scaled Jacobian " << q.min << ")";
         return s;
@@ -162,7 +162,7 @@ Series run(const UnsteadyCase& c) {
         c.number, i * dt, r.iterations, r.krylov_iterations, seconds, s.ux.back(), s.uy.back(),
         s.drag.back(), s.lift.back());
     std::fflush(stdout);
-    if (folder) write_series(folder, c.number, s);
+    if (folder) append_last_row(folder, c.number, s);
   }
   return s;
 }
