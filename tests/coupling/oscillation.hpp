@@ -15,6 +15,9 @@ namespace test {
 struct Oscillation {
   double mean = 0, amplitude = 0, frequency = 0;
   int periods = 0;  // full periods found in the analysed window
+  // Amplitude of the last period relative to the one before, minus 1: ~0 in a periodic state,
+  // > 0 while the oscillation still grows (0 when fewer than two periods were found).
+  double amplitude_change = 0;
 };
 
 // The vertex of the parabola through (t[i-1], y[i-1]), (t[i], y[i]), (t[i+1], y[i+1]) on a uniform
@@ -29,11 +32,27 @@ inline std::pair<double, double> parabolic_extremum(const std::vector<double>& t
   return {t[i] + offset * h, b - 0.25 * (a - c) * offset};
 }
 
+// The (min, max) of y over the samples [begin, end), each refined by the parabola.
+inline std::pair<double, double> refined_extremes(const std::vector<double>& t,
+                                                  const std::vector<double>& y, size_t begin,
+                                                  size_t end) {
+  size_t i_max = begin, i_min = begin;
+  for (size_t i = begin; i < end; ++i) {
+    if (y[i] > y[i_max]) i_max = i;
+    if (y[i] < y[i_min]) i_min = i;
+  }
+  auto refined = [&](size_t i) {
+    return (i > 0 && i + 1 < y.size()) ? parabolic_extremum(t, y, i).second : y[i];
+  };
+  return {refined(i_min), refined(i_max)};
+}
+
 // Periods are delimited by upward crossings of the window's mid-level, each counted only after
 // the signal has been a quarter of the range below it: step-to-step jitter (Crank-Nicolson's
 // undamped pressure mode shows in the forces) cannot then create extra periods, as it could
 // extra local maxima near a flat peak. Frequency from the last `periods` periods; mean and
-// amplitude from the extremes of the last one, each refined by the parabola.
+// amplitude from the extremes of the last one, each refined by the parabola; amplitude_change
+// compares the last period's amplitude with the one before it.
 inline Oscillation analyse(const std::vector<double>& t, const std::vector<double>& y,
                            double t_from, int periods) {
   Oscillation o;
@@ -60,18 +79,14 @@ inline Oscillation analyse(const std::vector<double>& t, const std::vector<doubl
   o.periods = static_cast<int>(crossing_time.size()) - 1;
   const int n = std::min(periods, o.periods);
   o.frequency = n / (crossing_time.back() - crossing_time[crossing_time.size() - 1 - n]);
-  const size_t begin = crossing_index[crossing_index.size() - 2], end = crossing_index.back();
-  size_t i_max = begin, i_min = begin;
-  for (size_t i = begin; i < end; ++i) {
-    if (y[i] > y[i_max]) i_max = i;
-    if (y[i] < y[i_min]) i_min = i;
+  const size_t k = crossing_index.size();
+  const auto last = refined_extremes(t, y, crossing_index[k - 2], crossing_index[k - 1]);
+  o.mean = 0.5 * (last.second + last.first);
+  o.amplitude = 0.5 * (last.second - last.first);
+  if (o.periods >= 2) {
+    const auto before = refined_extremes(t, y, crossing_index[k - 3], crossing_index[k - 2]);
+    o.amplitude_change = o.amplitude / (0.5 * (before.second - before.first)) - 1;
   }
-  auto refined = [&](size_t i) {
-    return (i > 0 && i + 1 < y.size()) ? parabolic_extremum(t, y, i).second : y[i];
-  };
-  const double high = refined(i_max), low = refined(i_min);
-  o.mean = 0.5 * (high + low);
-  o.amplitude = 0.5 * (high - low);
   return o;
 }
 

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <utility>
 
 #include "coupling/fsi_test_support.hpp"
 
@@ -80,6 +82,27 @@ double min_scaled_jacobian(const Mesh& mesh) {
   double q = 1;
   for (const QualityRange& r : mesh_quality_by_block(mesh)) q = std::min(q, r.min);
   return q;
+}
+
+// The smallest stretch of the layer's surface along the flow: current over reference length of
+// each interface edge in the z = 0 plane (< 1: compressed). Returns {stretch, reference x of the
+// edge's centre}.
+std::pair<double, double> min_surface_stretch(const LayerProblem& lp) {
+  std::vector<int> nodes;
+  for (int n : lp.mesh.node_sets.at("solid_fluid"))
+    if (lp.mesh.x[n][2] == 0) nodes.push_back(n);
+  std::sort(nodes.begin(), nodes.end(),
+            [&](int a, int b) { return lp.mesh.x[a][0] < lp.mesh.x[b][0]; });
+  const auto d = lp.fsi->displacement();
+  std::pair<double, double> worst{std::numeric_limits<double>::infinity(), 0};
+  for (size_t i = 1; i < nodes.size(); ++i) {
+    const Point &a = lp.mesh.x[nodes[i - 1]], &b = lp.mesh.x[nodes[i]];
+    const Point &da = d[nodes[i - 1]], &db = d[nodes[i]];
+    const double reference = std::hypot(b[0] - a[0], b[1] - a[1]);
+    const double current = std::hypot(b[0] + db[0] - a[0] - da[0], b[1] + db[1] - a[1] - da[1]);
+    if (current / reference < worst.first) worst = {current / reference, 0.5 * (a[0] + b[0])};
+  }
+  return worst;
 }
 
 }  // namespace
@@ -162,6 +185,37 @@ TEST(FsiSolve, VerySoftLayerLargeDeformation) {
   EXPECT_LT(traction_mismatch(lp), 1e-6);
 }
 
+// Softer still, in time: the E = 0.15 layer (about twice the wall shear stress, where the steady
+// solve above fails; see the diagnostic at the end of this file) started from rest with a dynamic
+// structure. Every step must converge without cuts while the layer is sheared by ~40% of its
+// thickness and its surface is compressed past the creasing threshold (stretch < 0.65), the
+// large-deformation regime a very soft biofilm reaches; no element may invert on the way.
+TEST(FsiSolve, VerySoftLayerConvergesInTime) {
+  LayerParameters p = resolved_layer();
+  p.model = NeoHooke;
+  p.youngs_modulus = 0.15;
+  LayerProblem lp = make_started_layer(p);
+  int worst = 0;
+  double largest = 0;
+  for (int i = 1; i <= 30; ++i) {
+    const NewtonResult r = lp.fsi->step(0.05, "soft step " + std::to_string(i));
+    ASSERT_TRUE(r.converged) << "step " << i << ": " << r.reason;
+    worst = std::max(worst, r.iterations);
+    largest = std::max(largest, max_abs_component(lp.fsi->displacement(), 0));
+    ASSERT_GT(min_scaled_jacobian(lp.fsi->current_mesh()), 0.0) << "step " << i;
+  }
+  const auto stretch = min_surface_stretch(lp);
+  std::printf(
+      "[ measured ] E = 0.15 in time: worst step %d Newton, %d cut steps, largest |d_x| %.3f "
+      "(%.0f%% of the thickness), surface stretch %.3f, min scaled Jacobian %.3f\n",
+      worst, lp.fsi->stats().cut_steps, largest, 100 * largest / 0.25, stretch.first,
+      min_scaled_jacobian(lp.fsi->current_mesh()));
+  EXPECT_EQ(lp.fsi->stats().cut_steps, 0);
+  EXPECT_LE(worst, 8);  // measured 3-4
+  EXPECT_GT(largest, 0.35 * 0.25);
+  EXPECT_LT(stretch.first, 0.65);
+}
+
 // Without the shape derivatives the Jacobian misses the fluid's dependence on the mesh motion:
 // on the stiff layer (deformation 0.3% of the thickness) Newton still converges, linearly; the
 // test pins that it converges, to the same solution, and costs more iterations. Measured on the
@@ -223,9 +277,14 @@ TEST(FsiSolve, FailedSolveReportsFieldStepAndHistory) {
 // converges at the quadrature points. A stiffer fluid mesh motion does not help (stiffening
 // exponent 0, 1, 2: the same numbers; the layer's fluid cells are uniform, and the one that
 // inverts has the interface as its bottom face). What it looks like is a compressed soft layer
-// creasing at its free surface (Biot's surface instability of a neo-Hookean solid, from ~35%
-// compression; the local strain at the fold was not measured): a mesh resolving the crease is
-// needed, not a stronger coupled solver. Prints the history; asserts only that the steps converge.
+// creasing at its free surface, and the surface strain printed each step says so: the surface
+// edge at x ~ 0.88 is compressed to a stretch of 0.65 by t ~ 0.9 (the creasing threshold of a
+// neo-Hookean half-space in plane strain, Hong, Zhao & Suo 2009), holds near 0.53-0.55 from t =
+// 1.2 to 2.2 (Biot's linear surface instability is at 0.544), then falls to 0.25 by t = 4.3 as the
+// fold forms. (Both thresholds are for an incompressible half-space; this layer has nu = 0.3, so
+// they indicate, not predict.) The compression beyond both thresholds comes 3 s before any cell
+// inverts: a mesh resolving the crease is needed, not a stronger coupled solver. Prints the
+// history; asserts only that the steps converge.
 TEST(FsiSolve, DISABLED_SoftLayerInTimeFoldsAtItsSurface) {
   LayerParameters p = resolved_layer();
   p.model = NeoHooke;
@@ -244,6 +303,7 @@ TEST(FsiSolve, DISABLED_SoftLayerInTimeFoldsAtItsSurface) {
         for (int d = 0; d < 3; ++d) c[d] += lp.mesh.x[lp.mesh.conn[q[b].worst_element][k]][d] / 8;
       std::printf(" %s %.3f at (%.2f, %.2f)", lp.mesh.block_names[b].c_str(), q[b].min, c[0], c[1]);
     }
-    std::printf("\n");
+    const auto stretch = min_surface_stretch(lp);
+    std::printf("; surface stretch %.3f at x %.2f\n", stretch.first, stretch.second);
   }
 }
