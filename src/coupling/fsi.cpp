@@ -895,17 +895,30 @@ std::vector<Point> FsiProblem::mesh_displacement() const {
   return out;
 }
 
-void FsiProblem::set_mesh_displacement(const std::vector<Point>& g) {
+namespace {
+
+std::vector<double> flatten(const std::vector<Point>& v) {
+  std::vector<double> flat(3 * v.size());
+  for (size_t n = 0; n < v.size(); ++n)
+    for (int c = 0; c < 3; ++c) flat[3 * n + c] = v[n][c];
+  return flat;
+}
+
+}  // namespace
+
+void FsiProblem::set_mesh_displacement(const std::vector<Point>& g,
+                                       const std::vector<Point>& grid_velocity) {
   Impl& m = *impl_;
-  if (static_cast<int>(g.size()) != n_nodes_)
-    throw std::invalid_argument("fsi: mesh displacement has the wrong size");
-  std::vector<double> flat(3 * n_nodes_);
-  for (int n = 0; n < n_nodes_; ++n)
-    for (int c = 0; c < 3; ++c) flat[3 * n + c] = g[n][c];
-  copy(to_device_vector(flat, "biofsi::fsi_g_in"), m.g_now);
+  if (static_cast<int>(g.size()) != n_nodes_ ||
+      (!grid_velocity.empty() && static_cast<int>(grid_velocity.size()) != n_nodes_))
+    throw std::invalid_argument("fsi: mesh displacement or grid velocity has the wrong size");
+  copy(to_device_vector(flatten(g), "biofsi::fsi_g_in"), m.g_now);
   copy(m.g_now, m.g_old);
-  fill(m.grid_velocity, 0);
-  move_fluid_mesh(m, m.g_now);
+  move_fluid_mesh(m, m.g_now);  // g = g_old: no grid velocity
+  if (!grid_velocity.empty()) {
+    copy(to_device_vector(flatten(grid_velocity), "biofsi::fsi_w_in"), m.grid_velocity);
+    m.fluid.set_geometry(m.x_work, m.grid_velocity);
+  }
   m.fluid.sync_host_coordinates();
 }
 

@@ -123,9 +123,11 @@ class FsiProblem {
   // Nodal grid velocity of the last step (zero after a steady solve).
   std::vector<Point> grid_velocity() const;
   // The fluid mesh's displacement from the reference (checkpoints), and setting it (restarts:
-  // the fluid is placed there with no grid velocity).
+  // the fluid is placed there with the given grid velocity, none if empty; a transient restart
+  // that passes grid_velocity() of the run it continues predicts its next step as that run would).
   std::vector<Point> mesh_displacement() const;
-  void set_mesh_displacement(const std::vector<Point>& g);
+  void set_mesh_displacement(const std::vector<Point>& g,
+                             const std::vector<Point>& grid_velocity = {});
   const FsiStats& stats() const { return stats_; }
 
   // Verification access. prepare_step/prepare_steady set a solve up (as step/solve_steady do,

@@ -10,7 +10,9 @@
 // [0: the fluid block preconditioned by SIMPLEC; 1: SIMPLE], BIOFSI_FSI_SERIES (a folder: the time
 // series is written there as fsi<k>_series.csv after every step), BIOFSI_FSI_FROM_SERIES (such a
 // file: analyse it instead of running, e.g. a run stopped early; pick the case with
-// --gtest_filter).
+// --gtest_filter), BIOFSI_FSI_CHECKPOINT (a file: the state is saved there every
+// BIOFSI_FSI_CHECKPOINT_EVERY [10] steps), BIOFSI_FSI_RESTART (such a file: continue that run from
+// it, with its series read back from BIOFSI_FSI_SERIES so the analysis covers the whole run).
 //
 // How the numbers are taken: as the benchmark does, over the last full period of each signal
 // (oscillation.hpp, tested in the default suite).
@@ -30,6 +32,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -103,15 +106,93 @@ UnsteadyCase fsi3() {
   return c;
 }
 
-// Appends the series' newest row (and the header with the first), so a run stopped at any
-// point leaves every finished step on disk without rewriting the file each step.
-void append_last_row(const std::string& folder, int number, const Series& s) {
-  const std::string path = folder + "/fsi" + std::to_string(number) + "_series.csv";
-  std::ofstream out(path, s.t.size() == 1 ? std::ios::trunc : std::ios::app);
-  if (s.t.size() == 1) out << "t,ux,uy,drag,lift\n";
-  out.precision(10);
-  const size_t i = s.t.size() - 1;
+std::string series_path(const std::string& folder, int number) {
+  return folder + "/fsi" + std::to_string(number) + "_series.csv";
+}
+
+void write_row(std::ostream& out, const Series& s, size_t i) {
   out << s.t[i] << ',' << s.ux[i] << ',' << s.uy[i] << ',' << s.drag[i] << ',' << s.lift[i] << '\n';
+}
+
+// Writes the whole series (the start of a run, or a resumed run's rows so far).
+void write_series(const std::string& folder, int number, const Series& s) {
+  std::ofstream out(series_path(folder, number), std::ios::trunc);
+  out << "t,ux,uy,drag,lift\n";
+  out.precision(10);
+  for (size_t i = 0; i < s.t.size(); ++i) write_row(out, s, i);
+}
+
+// Appends the series' newest row, so a run stopped at any point leaves every finished step on
+// disk without rewriting the file each step.
+void append_last_row(const std::string& folder, int number, const Series& s) {
+  std::ofstream out(series_path(folder, number), std::ios::app);
+  out.precision(10);
+  write_row(out, s, s.t.size() - 1);
+}
+
+Series read_series(const std::string& path);
+
+// The state after a step, enough to continue the run as if it had not stopped: structure
+// displacement and velocity, fluid velocity and pressure, fluid mesh displacement and grid
+// velocity (the next step's predictor), and the step's number and size. Binary, this machine's
+// byte order: a run's own scratch file, not an exchange format.
+constexpr char checkpoint_magic[] = "biofsi-fsi-unsteady-1";
+
+void write_checkpoint(const std::string& path, const TurekHronFsi& th, int step, double dt) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    const int n = th.mesh.n_nodes();
+    out.write(checkpoint_magic, sizeof checkpoint_magic);
+    out.write(reinterpret_cast<const char*>(&n), sizeof n);
+    out.write(reinterpret_cast<const char*>(&step), sizeof step);
+    out.write(reinterpret_cast<const char*>(&dt), sizeof dt);
+    auto points = [&out](const std::vector<Point>& v) {
+      out.write(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(Point));
+    };
+    points(th.structure->displacement());
+    points(th.structure->velocity());
+    points(th.fsi->mesh_displacement());
+    points(th.fsi->grid_velocity());
+    const std::vector<double> f = th.fluid->solution_host();
+    out.write(reinterpret_cast<const char*>(f.data()), f.size() * sizeof(double));
+    if (!out) ADD_FAILURE() << path << ": could not write the checkpoint";
+  }
+  std::rename(tmp.c_str(), path.c_str());  // a run killed while writing keeps the last one
+}
+
+// Restores a checkpoint of the same case, mesh and step size; returns its step number.
+int read_checkpoint(const std::string& path, TurekHronFsi& th, double dt) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[sizeof checkpoint_magic] = {};
+  int n = 0, step = 0;
+  double saved_dt = 0;
+  in.read(magic, sizeof magic);
+  in.read(reinterpret_cast<char*>(&n), sizeof n);
+  in.read(reinterpret_cast<char*>(&step), sizeof step);
+  in.read(reinterpret_cast<char*>(&saved_dt), sizeof saved_dt);
+  if (!in || std::string(magic) != checkpoint_magic)
+    throw std::runtime_error(path + ": not a checkpoint of test_fsi_unsteady");
+  if (n != th.mesh.n_nodes() || saved_dt != dt)
+    throw std::runtime_error(path + ": written for " + std::to_string(n) + " nodes and dt " +
+                             std::to_string(saved_dt) + ", this run has " +
+                             std::to_string(th.mesh.n_nodes()) + " nodes and dt " +
+                             std::to_string(dt));
+  auto points = [&in, n]() {
+    std::vector<Point> v(n);
+    in.read(reinterpret_cast<char*>(v.data()), v.size() * sizeof(Point));
+    return v;
+  };
+  const auto d = points(), v = points(), g = points(), w = points();
+  std::vector<double> f(4 * static_cast<size_t>(n));
+  in.read(reinterpret_cast<char*>(f.data()), f.size() * sizeof(double));
+  if (!in) throw std::runtime_error(path + ": the checkpoint is truncated");
+  const double t = step * dt;
+  th.structure->set_state(d, v, t);
+  th.fluid->set_solution(f);
+  th.fluid->set_time(t);
+  th.fsi->set_mesh_displacement(g, w);
+  return step;
 }
 
 Series run(const UnsteadyCase& c) {
@@ -156,8 +237,28 @@ Series run(const UnsteadyCase& c) {
                                    zero});
   }
   Series s;
+  int first = 1;
+  if (const char* restart = std::getenv("BIOFSI_FSI_RESTART")) {
+    first = read_checkpoint(restart, *th, dt) + 1;
+    // The resumed run's series continues the one its checkpoints came from.
+    if (folder) {
+      const Series before = read_series(series_path(folder, c.number));
+      for (size_t i = 0; i < before.t.size() && before.t[i] < (first - 0.5) * dt; ++i) {
+        s.t.push_back(before.t[i]);
+        s.ux.push_back(before.ux[i]);
+        s.uy.push_back(before.uy[i]);
+        s.drag.push_back(before.drag[i]);
+        s.lift.push_back(before.lift[i]);
+      }
+    }
+    std::printf("FSI%d: resumed from %s after step %d (t = %.4f)\n", c.number, restart, first - 1,
+                (first - 1) * dt);
+  }
+  if (folder) write_series(folder, c.number, s);
+  const char* checkpoint = std::getenv("BIOFSI_FSI_CHECKPOINT");
+  const int checkpoint_every = static_cast<int>(env_or("BIOFSI_FSI_CHECKPOINT_EVERY", 10));
   const int steps = static_cast<int>(std::lround(t_end / dt));
-  for (int i = 1; i <= steps; ++i) {
+  for (int i = first; i <= steps; ++i) {
     const auto start = std::chrono::steady_clock::now();
     const NewtonResult r =
         th->fsi->step(dt, "FSI" + std::to_string(c.number) + " step " + std::to_string(i));
@@ -166,10 +267,17 @@ Series run(const UnsteadyCase& c) {
     const Point f = th->force();
     // The fields do not check the deformed mesh (the scene driver does): stop here, with the
     // step named, rather than integrate on an inverted element.
-    for (const QualityRange& q : mesh_quality_by_block(th->fsi->current_mesh()))
-      if (!(q.min > 0)) {
-        ADD_FAILURE() << "FSI" << c.number << " step " << i << " (t = " << i * dt << "): element "
-                      << q.worst_element << " inverted (scaled Jacobian " << q.min << ")";
+    const std::vector<QualityRange> quality = mesh_quality_by_block(th->fsi->current_mesh());
+    for (size_t b = 0; b < quality.size(); ++b)
+      if (quality[b].worst_element >= 0 && !(quality[b].min > 0)) {
+        Point centre{0, 0, 0};  // the element's reference centre, to find it
+        for (int k = 0; k < 8; ++k)
+          for (int d = 0; d < 3; ++d)
+            centre[d] += th->mesh.x[th->mesh.conn[quality[b].worst_element][k]][d] / 8;
+        ADD_FAILURE() << "FSI" << c.number << " step " << i << " (t = " << i * dt
+                      << "): " << th->mesh.block_names[b] << " element " << quality[b].worst_element
+                      << " at (" << centre[0] << ", " << centre[1] << ") inverted (scaled Jacobian "
+                      << quality[b].min << ")";
         return s;
       }
     s.t.push_back(i * dt);
@@ -178,11 +286,17 @@ Series run(const UnsteadyCase& c) {
     s.drag.push_back(f[0]);
     s.lift.push_back(f[1]);
     std::printf(
-        "FSI%d t %.4f: %d Newton, %d Krylov, %.1f s; u_x %.4e u_y %.4e drag %.2f lift %.2f\n",
+        "FSI%d t %.4f: %d Newton, %d Krylov, %.1f s; u_x %.4e u_y %.4e drag %.2f lift %.2f; "
+        "min scaled Jacobian",
         c.number, i * dt, r.iterations, r.krylov_iterations, seconds, s.ux.back(), s.uy.back(),
         s.drag.back(), s.lift.back());
+    for (size_t b = 0; b < quality.size(); ++b)
+      if (quality[b].worst_element >= 0)
+        std::printf(" %s %.3f", th->mesh.block_names[b].c_str(), quality[b].min);
+    std::printf("\n");
     std::fflush(stdout);
     if (folder) append_last_row(folder, c.number, s);
+    if (checkpoint && i % checkpoint_every == 0) write_checkpoint(checkpoint, *th, i, dt);
   }
   return s;
 }
