@@ -115,7 +115,8 @@ struct FsiProblem::Impl {
   Vector b, g_old, g_now, grid_velocity;
   // Work vectors.
   Vector xs, dxs, r_base, f_work, g_dir, pre_work;
-  Vector xs_lin;  // the synced state the Jacobian is taken at
+  Vector xs_lin;    // the synced state the Jacobian is taken at
+  Mesh trial_mesh;  // host: a line-search trial's configuration, for its element check
 
   Impl(const Mesh& mesh, FluidField& f, StructureField& s, const FsiSettings& st)
       : fluid(f),
@@ -556,6 +557,29 @@ void apply_preconditioner(FsiProblem::Impl& m, FsiStats& stats, ConstVector r, V
       rg, zg, stats.inner_iterations[2], stats.seconds_inner[2]);
 }
 
+// Whether the configuration x keeps every element of the structure and of the fluid mesh the
+// right way round (scaled Jacobian > 0 at all corners). Why the line search asks: St. Venant-
+// Kirchhoff's energy depends on C = F^T F alone, so an element turned inside out (a reflection)
+// costs it nothing, and a long Newton step can land on such a state, a solution of the discrete
+// equations that no material reaches. Measured on Turek-Hron FSI2 (refine 1, after the flag's
+// swing had reached +-0.07): steps that converged onto a flag element near the tip with scaled
+// Jacobian -1, or a fluid cell under the tip at -0.44, with the drag falling from ~250 to 12-66.
+bool keeps_elements_upright(FsiProblem::Impl& m, ConstVector x) {
+  sync_state(m, x, m.xs, m.structure.displacement_device());
+  const auto xs = to_host_vector(m.xs);
+  const auto dn = to_host_vector(m.structure.displacement_device());
+  const Mesh& reference = m.structure.mesh();
+  if (m.trial_mesh.conn.size() != reference.conn.size()) m.trial_mesh = reference;
+  for (int n = 0; n < m.nn; ++n)
+    for (int c = 0; c < 3; ++c)
+      m.trial_mesh.x[n][c] =
+          reference.x[n][c] +
+          (m.structure_node[n] ? dn[3 * n + c] + xs[3 * n + c] : xs[7 * m.nn + 3 * n + c]);
+  for (double q : scaled_jacobians(m.trial_mesh))
+    if (!(q > 0)) return false;
+  return true;
+}
+
 }  // namespace
 
 void FsiProblem::tangent(ConstVector x, ConstVector dx, Vector y) {
@@ -739,9 +763,15 @@ NewtonResult FsiProblem::solve() {
     // Backtracking on the scaled merit sum_i (||r_i|| / scale_i)^2.
     double lambda = 1, best = std::numeric_limits<double>::infinity(), best_lambda = 0;
     std::array<double, 3> best_norms{};
+    int admissible_trials = 0;
     for (int bt = 0; bt <= 10; ++bt) {
       copy(x_, trial);
       axpy(lambda, du, trial);
+      if (!keeps_elements_upright(m, trial)) {  // an inadmissible state: a shorter step
+        lambda *= 0.5;
+        continue;
+      }
+      ++admissible_trials;
       residual(trial, r_trial);
       const auto tn = field_norms(m, r_trial);
       double merit = 0;
@@ -755,7 +785,9 @@ NewtonResult FsiProblem::solve() {
       lambda *= 0.5;
     }
     if (!(best < merit0)) {
-      res.reason = "line search failed";
+      res.reason = admissible_trials == 0
+                       ? "line search failed: every trial step turned an element inside out"
+                       : "line search failed";
       break;
     }
     if (best_lambda != lambda) {  // the last trial was not the best one: redo the best

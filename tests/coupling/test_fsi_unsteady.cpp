@@ -6,13 +6,16 @@
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_REFINE [1], BIOFSI_FSI_DT [FSI2
 // 0.02, FSI3 0.01], BIOFSI_FSI_T_END [FSI2 15, FSI3 8], BIOFSI_FSI_RAMP [0.5], BIOFSI_FSI_KICK
-// [FSI2 4, FSI3 0: the peak of the transverse seeding pulse on the flag, m/s^2], BIOFSI_FSI_SIMPLE
+// [FSI2 4, FSI3 0: the peak of the transverse seeding pulse on the flag, m/s^2], BIOFSI_FSI_THETA
+// [0.5: fluid and structure], BIOFSI_FSI_STIFFENING [2: the fluid mesh's], BIOFSI_FSI_SIMPLE
 // [0: the fluid block preconditioned by SIMPLEC; 1: SIMPLE], BIOFSI_FSI_SERIES (a folder: the time
 // series is written there as fsi<k>_series.csv after every step), BIOFSI_FSI_FROM_SERIES (such a
 // file: analyse it instead of running, e.g. a run stopped early; pick the case with
 // --gtest_filter), BIOFSI_FSI_CHECKPOINT (a file: the state is saved there every
 // BIOFSI_FSI_CHECKPOINT_EVERY [10] steps), BIOFSI_FSI_RESTART (such a file: continue that run from
-// it, with its series read back from BIOFSI_FSI_SERIES so the analysis covers the whole run).
+// it, with its series read back from BIOFSI_FSI_SERIES so the analysis covers the whole run; the
+// step size may differ from the one that wrote it, for time-step studies of a periodic state),
+// BIOFSI_FSI_VERBOSE [0] (1: every step's Newton history, residual norms per field).
 //
 // How the numbers are taken: as the benchmark does, over the last full period of each signal
 // (oscillation.hpp, tested in the default suite).
@@ -32,6 +35,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -161,23 +165,29 @@ void write_checkpoint(const std::string& path, const TurekHronFsi& th, int step,
   std::rename(tmp.c_str(), path.c_str());  // a run killed while writing keeps the last one
 }
 
-// Restores a checkpoint of the same case, mesh and step size; returns its step number.
+// Restores a checkpoint of the same case and mesh; returns the number of steps of size dt that
+// reach its time, which may have been reached with another step size (a time-step study from a
+// periodic state: one-step-theta needs only the state at t_n).
 int read_checkpoint(const std::string& path, TurekHronFsi& th, double dt) {
   std::ifstream in(path, std::ios::binary);
   char magic[sizeof checkpoint_magic] = {};
-  int n = 0, step = 0;
+  int n = 0, saved_step = 0;
   double saved_dt = 0;
   in.read(magic, sizeof magic);
   in.read(reinterpret_cast<char*>(&n), sizeof n);
-  in.read(reinterpret_cast<char*>(&step), sizeof step);
+  in.read(reinterpret_cast<char*>(&saved_step), sizeof saved_step);
   in.read(reinterpret_cast<char*>(&saved_dt), sizeof saved_dt);
   if (!in || std::string(magic) != checkpoint_magic)
     throw std::runtime_error(path + ": not a checkpoint of test_fsi_unsteady");
-  if (n != th.mesh.n_nodes() || saved_dt != dt)
-    throw std::runtime_error(path + ": written for " + std::to_string(n) + " nodes and dt " +
-                             std::to_string(saved_dt) + ", this run has " +
-                             std::to_string(th.mesh.n_nodes()) + " nodes and dt " +
-                             std::to_string(dt));
+  if (n != th.mesh.n_nodes())
+    throw std::runtime_error(path + ": written for " + std::to_string(n) +
+                             " nodes, this run's mesh has " + std::to_string(th.mesh.n_nodes()));
+  const double t = saved_step * saved_dt;
+  const int step = static_cast<int>(std::lround(t / dt));
+  if (std::abs(step * dt - t) > 1e-9 * t)
+    throw std::runtime_error(
+        path + ": its time " + std::to_string(t) +
+        " is not a whole number of steps of BIOFSI_FSI_DT = " + std::to_string(dt));
   auto points = [&in, n]() {
     std::vector<Point> v(n);
     in.read(reinterpret_cast<char*>(v.data()), v.size() * sizeof(Point));
@@ -187,7 +197,6 @@ int read_checkpoint(const std::string& path, TurekHronFsi& th, double dt) {
   std::vector<double> f(4 * static_cast<size_t>(n));
   in.read(reinterpret_cast<char*>(f.data()), f.size() * sizeof(double));
   if (!in) throw std::runtime_error(path + ": the checkpoint is truncated");
-  const double t = step * dt;
   th.structure->set_state(d, v, t);
   th.fluid->set_solution(f);
   th.fluid->set_time(t);
@@ -200,10 +209,12 @@ Series run(const UnsteadyCase& c) {
   const double dt = env_or("BIOFSI_FSI_DT", c.dt), t_end = env_or("BIOFSI_FSI_T_END", c.t_end);
   const double ramp_time = env_or("BIOFSI_FSI_RAMP", 0.5);
   const char* folder = std::getenv("BIOFSI_FSI_SERIES");
+  const double theta = env_or("BIOFSI_FSI_THETA", 0.5);
+  const double stiffening = env_or("BIOFSI_FSI_STIFFENING", 2);
   auto th = make_turek_hron(
-      "turek_hron_r" + std::to_string(refine), c.parameters, false, 0.5,
+      "turek_hron_r" + std::to_string(refine), c.parameters, false, theta,
       ShapeDerivatives::FiniteDifference,
-      [](FsiSettings& s) {
+      [stiffening](FsiSettings& s) {
         // Every field to 1e-6 of its largest residual in the step: the step's own
         // discretisation error is far larger.
         s.rel_tol = 1e-6;
@@ -212,7 +223,7 @@ Series run(const UnsteadyCase& c) {
         // prescribed bending shape moved the refine-1 mesh to a minimum scaled Jacobian of
         // 0.58 / 0.28 / 0.008 at tip 0.05 / 0.07 / 0.09 with the default (1/det J)^1
         // stiffening, 0.66 / 0.64 / 0.56 with the square.
-        s.mesh_motion.stiffening = 2;
+        s.mesh_motion.stiffening = stiffening;
       },
       [](FluidSettings& f) {
         // SIMPLEC: at FSI3's Re 200 and CFL ~6 the fluid block needed ~12 inner
@@ -257,6 +268,7 @@ Series run(const UnsteadyCase& c) {
   if (folder) write_series(folder, c.number, s);
   const char* checkpoint = std::getenv("BIOFSI_FSI_CHECKPOINT");
   const int checkpoint_every = static_cast<int>(env_or("BIOFSI_FSI_CHECKPOINT_EVERY", 10));
+  const bool verbose = env_or("BIOFSI_FSI_VERBOSE", 0) != 0;
   const int steps = static_cast<int>(std::lround(t_end / dt));
   for (int i = first; i <= steps; ++i) {
     const auto start = std::chrono::steady_clock::now();
@@ -265,36 +277,50 @@ Series run(const UnsteadyCase& c) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const Point f = th->force();
-    // The fields do not check the deformed mesh (the scene driver does): stop here, with the
-    // step named, rather than integrate on an inverted element.
-    const std::vector<QualityRange> quality = mesh_quality_by_block(th->fsi->current_mesh());
-    for (size_t b = 0; b < quality.size(); ++b)
-      if (quality[b].worst_element >= 0 && !(quality[b].min > 0)) {
-        Point centre{0, 0, 0};  // the element's reference centre, to find it
-        for (int k = 0; k < 8; ++k)
-          for (int d = 0; d < 3; ++d)
-            centre[d] += th->mesh.x[th->mesh.conn[quality[b].worst_element][k]][d] / 8;
-        ADD_FAILURE() << "FSI" << c.number << " step " << i << " (t = " << i * dt
-                      << "): " << th->mesh.block_names[b] << " element " << quality[b].worst_element
-                      << " at (" << centre[0] << ", " << centre[1] << ") inverted (scaled Jacobian "
-                      << quality[b].min << ")";
-        return s;
-      }
-    s.t.push_back(i * dt);
-    s.ux.push_back(th->tip_displacement(0));
-    s.uy.push_back(th->tip_displacement(1));
-    s.drag.push_back(f[0]);
-    s.lift.push_back(f[1]);
+    const double ux = th->tip_displacement(0), uy = th->tip_displacement(1);
+    const Mesh current = th->fsi->current_mesh();
+    const std::vector<QualityRange> quality = mesh_quality_by_block(current);
     std::printf(
         "FSI%d t %.4f: %d Newton, %d Krylov, %.1f s; u_x %.4e u_y %.4e drag %.2f lift %.2f; "
         "min scaled Jacobian",
-        c.number, i * dt, r.iterations, r.krylov_iterations, seconds, s.ux.back(), s.uy.back(),
-        s.drag.back(), s.lift.back());
+        c.number, i * dt, r.iterations, r.krylov_iterations, seconds, ux, uy, f[0], f[1]);
     for (size_t b = 0; b < quality.size(); ++b)
       if (quality[b].worst_element >= 0)
         std::printf(" %s %.3f", th->mesh.block_names[b].c_str(), quality[b].min);
-    std::printf("\n");
+    std::printf("; %d cut steps so far\n", th->fsi->stats().cut_steps);
+    if (verbose) {  // the step's (last attempt's) Newton history: residual norms per field
+      const FsiStats& st = th->fsi->stats();
+      for (size_t k = 0; k < st.last_residuals.size(); ++k)
+        std::printf("    Newton %zu: structure %.3e fluid %.3e mesh %.3e%s\n", k,
+                    st.last_residuals[k][0], st.last_residuals[k][1], st.last_residuals[k][2],
+                    k < st.last_krylov.size()
+                        ? (", then " + std::to_string(st.last_krylov[k]) + " Krylov").c_str()
+                        : "");
+    }
     std::fflush(stdout);
+    // The fields do not check the deformed mesh (the scene driver does): stop here, with the
+    // step named, rather than integrate on an inverted element.
+    for (size_t b = 0; b < quality.size(); ++b)
+      if (quality[b].worst_element >= 0 && !(quality[b].min > 0)) {
+        const int e = quality[b].worst_element;
+        std::ostringstream corners;  // reference -> current position of its z = 0 nodes
+        for (int k = 0; k < 8; ++k) {
+          const int n = th->mesh.conn[e][k];
+          if (th->mesh.x[n][2] != 0) continue;
+          corners << " (" << th->mesh.x[n][0] << ", " << th->mesh.x[n][1] << ") -> ("
+                  << current.x[n][0] << ", " << current.x[n][1] << ")";
+        }
+        ADD_FAILURE() << "FSI" << c.number << " step " << i << " (t = " << i * dt
+                      << "): " << th->mesh.block_names[b] << " element " << e
+                      << " inverted (scaled Jacobian " << quality[b].min
+                      << "); its nodes:" << corners.str();
+        return s;
+      }
+    s.t.push_back(i * dt);
+    s.ux.push_back(ux);
+    s.uy.push_back(uy);
+    s.drag.push_back(f[0]);
+    s.lift.push_back(f[1]);
     if (folder) append_last_row(folder, c.number, s);
     if (checkpoint && i % checkpoint_every == 0) write_checkpoint(checkpoint, *th, i, dt);
   }
