@@ -557,6 +557,22 @@ void apply_preconditioner(FsiProblem::Impl& m, FsiStats& stats, ConstVector r, V
       rg, zg, stats.inner_iterations[2], stats.seconds_inner[2]);
 }
 
+// Displacement of every node: the structure's d on its nodes, the fluid mesh's g elsewhere (the
+// two agree on Γ); both 3 values per node.
+std::vector<Point> node_displacement(const FsiProblem::Impl& m, const std::vector<double>& d,
+                                     const std::vector<double>& g) {
+  std::vector<Point> out(m.nn);
+  for (int n = 0; n < m.nn; ++n)
+    for (int c = 0; c < 3; ++c) out[n][c] = m.structure_node[n] ? d[3 * n + c] : g[3 * n + c];
+  return out;
+}
+
+// out.x := reference.x + displacement (out has reference's connectivity).
+void place_nodes(const Mesh& reference, const std::vector<Point>& displacement, Mesh& out) {
+  for (size_t n = 0; n < displacement.size(); ++n)
+    for (int c = 0; c < 3; ++c) out.x[n][c] = reference.x[n][c] + displacement[n][c];
+}
+
 // Whether the configuration x keeps every element of the structure and of the fluid mesh the
 // right way round (scaled Jacobian > 0 at all corners). Why the line search asks: St. Venant-
 // Kirchhoff's energy depends on C = F^T F alone, so an element turned inside out (a reflection)
@@ -567,14 +583,12 @@ void apply_preconditioner(FsiProblem::Impl& m, FsiStats& stats, ConstVector r, V
 bool keeps_elements_upright(FsiProblem::Impl& m, ConstVector x) {
   sync_state(m, x, m.xs, m.structure.displacement_device());
   const auto xs = to_host_vector(m.xs);
-  const auto dn = to_host_vector(m.structure.displacement_device());
+  std::vector<double> d = to_host_vector(m.structure.displacement_device());
+  for (size_t i = 0; i < d.size(); ++i) d[i] += xs[i];  // d_n + s
+  const std::vector<double> g(xs.begin() + 7 * m.nn, xs.end());
   const Mesh& reference = m.structure.mesh();
   if (m.trial_mesh.conn.size() != reference.conn.size()) m.trial_mesh = reference;
-  for (int n = 0; n < m.nn; ++n)
-    for (int c = 0; c < 3; ++c)
-      m.trial_mesh.x[n][c] =
-          reference.x[n][c] +
-          (m.structure_node[n] ? dn[3 * n + c] + xs[3 * n + c] : xs[7 * m.nn + 3 * n + c]);
+  place_nodes(reference, node_displacement(m, d, g), m.trial_mesh);
   for (double q : scaled_jacobians(m.trial_mesh))
     if (!(q > 0)) return false;
   return true;
@@ -904,19 +918,14 @@ std::vector<char> FsiProblem::free_dofs() const {
 
 std::vector<Point> FsiProblem::displacement() const {
   const Impl& m = *impl_;
-  const auto d = to_host_vector(m.structure.displacement_device());
-  const auto g = to_host_vector(m.g_now);
-  std::vector<Point> out(n_nodes_);
-  for (int n = 0; n < n_nodes_; ++n)
-    for (int c = 0; c < 3; ++c) out[n][c] = m.structure_node[n] ? d[3 * n + c] : g[3 * n + c];
-  return out;
+  return node_displacement(m, to_host_vector(m.structure.displacement_device()),
+                           to_host_vector(m.g_now));
 }
 
 Mesh FsiProblem::current_mesh() const {
-  Mesh mesh = impl_->structure.mesh();
-  const auto d = displacement();
-  for (int n = 0; n < n_nodes_; ++n)
-    for (int c = 0; c < 3; ++c) mesh.x[n][c] += d[n][c];
+  const Mesh& reference = impl_->structure.mesh();
+  Mesh mesh = reference;
+  place_nodes(reference, displacement(), mesh);
   return mesh;
 }
 

@@ -70,6 +70,19 @@ struct Reference {
 
 struct Series {
   std::vector<double> t, ux, uy, drag, lift;
+  void add(double t_, double ux_, double uy_, double drag_, double lift_) {
+    t.push_back(t_);
+    ux.push_back(ux_);
+    uy.push_back(uy_);
+    drag.push_back(drag_);
+    lift.push_back(lift_);
+  }
+  // Keeps the rows before time `end` (a resumed run drops what came after its checkpoint).
+  void keep_before(double end) {
+    size_t k = 0;
+    while (k < t.size() && t[k] < end) ++k;
+    for (auto* v : {&t, &ux, &uy, &drag, &lift}) v->resize(k);
+  }
 };
 
 struct UnsteadyCase {
@@ -263,14 +276,8 @@ Series run(const UnsteadyCase& c) {
     first = read_checkpoint(restart, *th, dt) + 1;
     // The resumed run's series continues the one its checkpoints came from.
     if (folder) {
-      const Series before = read_series(series_path(folder, c.number));
-      for (size_t i = 0; i < before.t.size() && before.t[i] < (first - 0.5) * dt; ++i) {
-        s.t.push_back(before.t[i]);
-        s.ux.push_back(before.ux[i]);
-        s.uy.push_back(before.uy[i]);
-        s.drag.push_back(before.drag[i]);
-        s.lift.push_back(before.lift[i]);
-      }
+      s = read_series(series_path(folder, c.number));
+      s.keep_before((first - 0.5) * dt);
     }
     std::printf("FSI%d: resumed from %s after step %d (t = %.4f)\n", c.number, restart, first - 1,
                 (first - 1) * dt);
@@ -326,11 +333,7 @@ Series run(const UnsteadyCase& c) {
                       << "); its nodes:" << corners.str();
         return s;
       }
-    s.t.push_back(i * dt);
-    s.ux.push_back(ux);
-    s.uy.push_back(uy);
-    s.drag.push_back(f[0]);
-    s.lift.push_back(f[1]);
+    s.add(i * dt, ux, uy, f[0], f[1]);
     if (folder) append_last_row(folder, c.number, s);
     if (checkpoint && i % checkpoint_every == 0) write_checkpoint(checkpoint, *th, i, dt);
   }
@@ -358,13 +361,8 @@ Series read_series(const std::string& path) {
   std::getline(in, line);  // header t,ux,uy,drag,lift
   double v[5];
   char comma;
-  while (in >> v[0] >> comma >> v[1] >> comma >> v[2] >> comma >> v[3] >> comma >> v[4]) {
-    s.t.push_back(v[0]);
-    s.ux.push_back(v[1]);
-    s.uy.push_back(v[2]);
-    s.drag.push_back(v[3]);
-    s.lift.push_back(v[4]);
-  }
+  while (in >> v[0] >> comma >> v[1] >> comma >> v[2] >> comma >> v[3] >> comma >> v[4])
+    s.add(v[0], v[1], v[2], v[3], v[4]);
   if (s.t.empty())
     ADD_FAILURE() << "BIOFSI_FSI_FROM_SERIES = '" << path << "': no rows t,ux,uy,drag,lift";
   return s;
