@@ -108,8 +108,10 @@ UnsteadyCase fsi2() {
   // with 0.5; BIOFSI_FSI_THETA, README): at the extreme swings 0.5 needed cut steps in 10 of 21
   // steps and its lift jumped by ~100 from step to step; 0.52 cut 3 steps in its first swing and
   // none in the next 1.4 s, with u_y(A) -14.8% and lift -27% against 0.5's -13.4% and -22% before
-  // its failure; 0.55 ran clean but damped u_y to -21% and the forces to -34%. Not yet run from
-  // rest with 0.52.
+  // its failure; 0.55 ran clean but damped u_y to -21% and the forces to -34%. From rest with
+  // 0.52 (stop 14, 28 min on one thread): no cut step, periodic (u_y amplitude change -0.1%),
+  // u_y(A) 1.14e-3 +- 6.73e-2 (-16.5%) at 1.90 Hz (-5.1%), u_x(A) amplitude -19.6% at 3.79 Hz,
+  // drag 190.3 +- 56.9 (mean -8.9%, amplitude -22.9%), lift +-169.3 (-27.7%) at 1.90 Hz.
   c.theta = 0.52;
   c.ux = {-1.4580e-2, 1.2440e-2, 3.8};
   c.uy = {1.2300e-3, 8.0600e-2, 2.0};
