@@ -4,7 +4,9 @@
 // development machine each takes one to two hours on one thread (what they measured: README, "Known
 // limits"; FSI3 reaches its periodic state by t ~ 3.6 s, FSI2 with its seeding push by ~5.5 s).
 //
-// Environment, for studies (defaults in brackets): BIOFSI_FSI_REFINE [1], BIOFSI_FSI_DT [FSI2
+// Environment, for studies (defaults in brackets): BIOFSI_FSI_REFINE [1], BIOFSI_FSI_MESH (a .msh
+// file of cases/meshes/turek_hron.geo made with other gmsh parameters: replaces the refine-th
+// mesh of the build; test_fluid_unsteady's CFD3 measures a candidate's wake), BIOFSI_FSI_DT [FSI2
 // 0.02, FSI3 0.01], BIOFSI_FSI_T_END [FSI2 8, FSI3 5], BIOFSI_FSI_RAMP [0.5], BIOFSI_FSI_KICK
 // [FSI2 4, FSI3 0: the peak of the transverse seeding pulse on the flag, m/s^2], BIOFSI_FSI_THETA
 // [FSI2 0.52, FSI3 0.5: fluid and structure], BIOFSI_FSI_STIFFENING [2: the fluid mesh's],
@@ -236,9 +238,10 @@ Series run(const UnsteadyCase& c) {
   const char* folder = std::getenv("BIOFSI_FSI_SERIES");
   const double theta = env_or("BIOFSI_FSI_THETA", c.theta);
   const double stiffening = env_or("BIOFSI_FSI_STIFFENING", 2);
+  const char* mesh = std::getenv("BIOFSI_FSI_MESH");
   auto th = make_turek_hron(
-      "turek_hron_r" + std::to_string(refine), c.parameters, false, theta,
-      ShapeDerivatives::FiniteDifference,
+      mesh && *mesh ? std::string(mesh) : "turek_hron_r" + std::to_string(refine), c.parameters,
+      false, theta, ShapeDerivatives::FiniteDifference,
       [stiffening](FsiSettings& s) {
         // Every field to 1e-6 of its largest residual in the step: the step's own
         // discretisation error is far larger.

@@ -24,7 +24,12 @@ struct BenchmarkResult {
 // elements near the cylinder roughly isotropic at the finer refinements.
 constexpr double benchmark_thickness = 0.05;
 
+// A mesh the build made (its name), or a .msh file given by its path (mesh studies).
 inline std::string mesh_file(const std::string& name) {
+  const std::string suffix = ".msh";
+  if (name.size() > suffix.size() &&
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    return name;
   return std::string(BIOFSI_MESH_DIR) + "/" + name + ".msh";
 }
 
