@@ -28,6 +28,13 @@
 //   CFD3 refine 1 (10 min): lift -44 +- 141 (-68%) at 4.10 Hz (-6.8%), still growing 2.1% a
 //     period at t = 10 s; drag mean 443.1 (+0.8%): fails. With a 2 m/s^2 pulse instead of 30 the
 //     oscillation was +-4 at t = 4 s; grad-div off changed the lift by < 10% to t = 1.2 s.
+//   CFD3 refine 2 (BIOFSI_UNSTEADY_REFINE=2, ~6 s a step; stopped at t = 4.5 s): periodic
+//     (amplitude change -0.35%), lift -19 +- 386 (-11.8%) at 4.35 Hz (-1.0%), drag mean 438.2
+//     (-0.3%): only the amplitude fails, just.
+//   CFD3 on refine 1 with a finer wake (gmsh -setnumber c_side 12 -setnumber g_side 1.1
+//     -setnumber c_wake 100 -setnumber c_wall 8; stopped at t = 3.8 s): lift +-412 (-5.8%) at
+//     4.39 Hz (-0.2%), still growing 3% a period.
+//   So refine 1's wake is too coarse for CFD3's shedding, and with it for FSI3's flow.
 // Environment: BIOFSI_UNSTEADY_REFINE [1], BIOFSI_UNSTEADY_DT [0.01],
 // BIOFSI_UNSTEADY_T_END [CFD3 10, DFG 6], BIOFSI_UNSTEADY_THETA [0.5], BIOFSI_UNSTEADY_GRAD_DIV
 // [1], BIOFSI_UNSTEADY_MESH (a .msh of the same geometry made with other gmsh parameters, for mesh
