@@ -6,11 +6,17 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
 namespace biofsi {
 namespace test {
+
+// A published row: mean +- amplitude [frequency].
+struct Reference {
+  double mean, amplitude, frequency;
+};
 
 struct Oscillation {
   double mean = 0, amplitude = 0, frequency = 0;
@@ -88,6 +94,21 @@ inline Oscillation analyse(const std::vector<double>& t, const std::vector<doubl
     o.amplitude_change = o.amplitude / (0.5 * (before.second - before.first)) - 1;
   }
   return o;
+}
+
+// 100 (value / reference - 1); 0 where the reference is 0 (a mean the benchmark does not give).
+inline double percent_off(double value, double reference) {
+  return reference == 0 ? 0.0 : 100 * (value / reference - 1);
+}
+
+// One "[ measured ]" line: the measured row, the published one and the deviations.
+inline void report_against(const char* name, const Oscillation& o, const Reference& r) {
+  std::printf(
+      "[ measured ] %s: %.4e +- %.4e [%.4f Hz] (reference %.4e +- %.4e [%.4g]); mean %+.2f%%, "
+      "amplitude %+.2f%%, frequency %+.2f%%; %d periods, amplitude change over the last %+.2f%%\n",
+      name, o.mean, o.amplitude, o.frequency, r.mean, r.amplitude, r.frequency,
+      percent_off(o.mean, r.mean), percent_off(o.amplitude, r.amplitude),
+      percent_off(o.frequency, r.frequency), o.periods, 100 * o.amplitude_change);
 }
 
 }  // namespace test

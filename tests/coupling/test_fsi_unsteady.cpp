@@ -51,28 +51,12 @@
 #include "ale/mesh_motion.hpp"
 #include "coupling/fsi_benchmarks.hpp"
 #include "coupling/oscillation.hpp"
+#include "environment.hpp"
 
 using namespace biofsi;
 using namespace biofsi::test;
 
 namespace {
-
-double env_or(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  if (!v || !*v) return fallback;
-  char* end = nullptr;
-  const double x = std::strtod(v, &end);
-  if (end == v || *end != '\0' || !std::isfinite(x)) {
-    ADD_FAILURE() << "environment variable " << name << " = '" << v << "': expected a number";
-    return fallback;
-  }
-  return x;
-}
-
-// A published row: mean ± amplitude [frequency].
-struct Reference {
-  double mean, amplitude, frequency;
-};
 
 struct Series {
   std::vector<double> t, ux, uy, drag, lift;
@@ -349,15 +333,6 @@ Series run(const UnsteadyCase& c) {
   return s;
 }
 
-void compare(const char* name, const Oscillation& o, const Reference& r) {
-  std::printf(
-      "[ measured ] %s: %.4e +- %.4e [%.2f Hz] (reference %.4e +- %.4e [%.1f]); "
-      "amplitude %+.1f%%, frequency %+.1f%%; amplitude change over the last period %+.1f%%\n",
-      name, o.mean, o.amplitude, o.frequency, r.mean, r.amplitude, r.frequency,
-      100 * (o.amplitude - r.amplitude) / r.amplitude,
-      100 * (o.frequency - r.frequency) / r.frequency, 100 * o.amplitude_change);
-}
-
 // A series written by an earlier run (BIOFSI_FSI_SERIES), for analysing a run stopped early.
 Series read_series(const std::string& path) {
   std::ifstream in(path);
@@ -385,10 +360,10 @@ void check(const UnsteadyCase& c) {
   const double t_from = s.t.back() * 2.0 / 3.0;
   const Oscillation ux = analyse(s.t, s.ux, t_from, 4), uy = analyse(s.t, s.uy, t_from, 4);
   const Oscillation drag = analyse(s.t, s.drag, t_from, 4), lift = analyse(s.t, s.lift, t_from, 4);
-  compare("u_x(A)", ux, c.ux);
-  compare("u_y(A)", uy, c.uy);
-  compare("drag", drag, c.drag);
-  compare("lift", lift, c.lift);
+  report_against("u_x(A)", ux, c.ux);
+  report_against("u_y(A)", uy, c.uy);
+  report_against("drag", drag, c.drag);
+  report_against("lift", lift, c.lift);
   ASSERT_GE(uy.periods, 3) << "no periodic oscillation in the analysed window";
   // A swing still growing (or decaying) is not the periodic state the benchmark reports: the
   // last two periods' amplitudes within 3% (the growth seen on the way was 10-70% per period;

@@ -24,8 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/gmsh.hpp"
-#include "structure/structure_test_support.hpp"
+#include "structure/turek_hron_flag.hpp"
 
 using namespace biofsi;
 using namespace biofsi::test;
@@ -41,16 +40,9 @@ struct Csm1Result {
 };
 
 Csm1Result csm1(int refine, StructureAmg amg = StructureAmg::Systems, int load_steps = 4) {
-  const std::string path =
-      std::string(BIOFSI_MESH_DIR) + "/turek_hron_r" + std::to_string(refine) + ".msh";
-  const Mesh all = read_gmsh(path, 0.01);
-  const Mesh mesh = submesh(all, {"solid"});
-  const double mu = 0.5e6, nu = 0.4, rho = 1000, g = 2;
-  StructureMaterial m;
-  m.model = SaintVenantKirchhoff;
-  m.mu = mu;
-  m.lambda = 2 * mu * nu / (1 - 2 * nu);
-  m.density = rho;
+  const Mesh mesh = turek_hron_flag_mesh(refine);
+  const StructureMaterial m = turek_hron_flag_material();
+  const double rho = m.density, g = 2;
   StructureSettings s = tight_structure_settings({m}, true);
   s.plane_strain = true;
   s.amg = amg;

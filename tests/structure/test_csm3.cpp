@@ -28,32 +28,19 @@
 #include <vector>
 
 #include "coupling/oscillation.hpp"
-#include "mesh/gmsh.hpp"
-#include "structure/structure_test_support.hpp"
+#include "environment.hpp"
+#include "structure/turek_hron_flag.hpp"
 
 using namespace biofsi;
 using namespace biofsi::test;
 
 namespace {
 
-struct Reference {
-  double mean, amplitude, frequency;
-};
 constexpr Reference ref_ux{-14.305e-3, 14.305e-3, 1.0995}, ref_uy{-63.607e-3, 65.160e-3, 1.0995};
 
 struct TipSeries {
   std::vector<double> t, ux, uy;
 };
-
-int env_int_or(const char* name, int fallback) {
-  const char* v = std::getenv(name);
-  return v && *v ? std::atoi(v) : fallback;
-}
-
-double env_double_or(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v && *v ? std::atof(v) : fallback;
-}
 
 std::vector<int> nodes_at_tip(const Mesh& mesh) {
   std::vector<int> tip;
@@ -65,15 +52,9 @@ std::vector<int> nodes_at_tip(const Mesh& mesh) {
 }
 
 TipSeries csm3(int refine, double dt, double t_end) {
-  const std::string path =
-      std::string(BIOFSI_MESH_DIR) + "/turek_hron_r" + std::to_string(refine) + ".msh";
-  const Mesh mesh = submesh(read_gmsh(path, 0.01), {"solid"});
-  const double mu = 0.5e6, nu = 0.4, rho = 1000, g = 2;
-  StructureMaterial m;
-  m.model = SaintVenantKirchhoff;
-  m.mu = mu;
-  m.lambda = 2 * mu * nu / (1 - 2 * nu);
-  m.density = rho;
+  const Mesh mesh = turek_hron_flag_mesh(refine);
+  const StructureMaterial m = turek_hron_flag_material();
+  const double rho = m.density, g = 2;
   StructureSettings s = tight_structure_settings({m}, false);
   s.theta = 0.5;  // undamped, as the benchmark's reference
   s.plane_strain = true;
@@ -98,28 +79,17 @@ TipSeries csm3(int refine, double dt, double t_end) {
   return out;
 }
 
-double percent(double value, double reference) { return 100 * (value / reference - 1); }
-
-void report(const char* name, const Oscillation& o, const Reference& r) {
-  std::printf(
-      "[ measured ] CSM3 %s: %.4e +- %.4e [%.4f Hz] (mean %+.2f%%, amplitude %+.2f%%, frequency "
-      "%+.2f%%; %d periods, amplitude change %+.2f%%)\n",
-      name, o.mean, o.amplitude, o.frequency, percent(o.mean, r.mean),
-      percent(o.amplitude, r.amplitude), percent(o.frequency, r.frequency), o.periods,
-      100 * o.amplitude_change);
-}
-
 }  // namespace
 
 TEST(StructureCsm3Long, TipOscillationMatchesTurekHron) {
-  const int refine = env_int_or("BIOFSI_CSM3_REFINE", 2);
-  const double dt = env_double_or("BIOFSI_CSM3_DT", 0.005);
+  const int refine = static_cast<int>(env_or("BIOFSI_CSM3_REFINE", 2));
+  const double dt = env_or("BIOFSI_CSM3_DT", 0.005);
   const TipSeries s = csm3(refine, dt, 5.0);
   // Undamped from rest: every period is the same, so the last four of five seconds are measured.
   const Oscillation ux = analyse(s.t, s.ux, 1.0, 4), uy = analyse(s.t, s.uy, 1.0, 4);
   std::printf("[ measured ] CSM3 refine %d, dt %g:\n", refine, dt);
-  report("u_x(A)", ux, ref_ux);
-  report("u_y(A)", uy, ref_uy);
+  report_against("CSM3 u_x(A)", ux, ref_ux);
+  report_against("CSM3 u_y(A)", uy, ref_uy);
   EXPECT_NEAR(uy.frequency, ref_uy.frequency, 0.02 * ref_uy.frequency);
   EXPECT_NEAR(uy.amplitude, ref_uy.amplitude, 0.04 * ref_uy.amplitude);
   EXPECT_NEAR(uy.mean, ref_uy.mean, 0.04 * std::abs(ref_uy.mean));
