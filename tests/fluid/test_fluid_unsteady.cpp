@@ -32,8 +32,8 @@
 //     (amplitude change -0.35%), lift -19 +- 386 (-11.8%) at 4.35 Hz (-1.0%), drag mean 438.2
 //     (-0.3%); over the next period (to 4.6 s) lift +-381 (-12.9%): only the amplitude fails.
 //   CFD3 on refine 1 with a finer wake (gmsh -setnumber c_side 12 -setnumber g_side 1.1
-//     -setnumber c_wake 100 -setnumber c_wall 8; stopped at t = 3.8 s): lift +-412 (-5.8%) at
-//     4.39 Hz (-0.2%), still growing 3% a period.
+//     -setnumber c_wake 100 -setnumber c_wall 8; 2 threads, to t = 4.95 s): lift +-400 (-8.6%)
+//     at 4.35 Hz (-1.0%), amplitude change -1.5%, drag mean +1.6%: within these tolerances.
 //   So refine 1's wake is too coarse for CFD3's shedding, and with it for FSI3's flow.
 // Environment: BIOFSI_UNSTEADY_REFINE [1], BIOFSI_UNSTEADY_DT [0.01],
 // BIOFSI_UNSTEADY_T_END [CFD3 10, DFG 6], BIOFSI_UNSTEADY_THETA [0.5], BIOFSI_UNSTEADY_GRAD_DIV
