@@ -6,7 +6,7 @@
 // Neither passes on refine 1, and the fluid mesh is why: the flag alone is right there (CSM3,
 // tests/structure/test_csm3.cpp: 3.6% fast), the fluid alone is not (CFD3,
 // tests/fluid/test_fluid_unsteady.cpp: lift amplitude -68%, frequency -6.8%; on refine 2 or with
-// a finer wake -6 to -12% and -0.2 to -1.0%). BIOFSI_FSI_MESH runs these on such a mesh.
+// a finer wake -9 to -13% and -1.0%). BIOFSI_FSI_MESH runs these on such a mesh.
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_REFINE [1], BIOFSI_FSI_MESH (a .msh
 // file of cases/meshes/turek_hron.geo made with other gmsh parameters: replaces the refine-th
