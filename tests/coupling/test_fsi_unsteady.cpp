@@ -17,8 +17,7 @@
 // BIOFSI_FSI_SIMPLE [0: the fluid block preconditioned by SIMPLEC; 1: SIMPLE], BIOFSI_FSI_SERIES (a
 // folder: the time series is written there as fsi<k>_series.csv after every step),
 // BIOFSI_FSI_FROM_SERIES (such a file: analyse it instead of running, e.g. a run stopped early;
-// pick the case with
-// --gtest_filter), BIOFSI_FSI_CHECKPOINT (a file: the state is saved there every
+// pick the case with --gtest_filter), BIOFSI_FSI_CHECKPOINT (a file: the state is saved there every
 // BIOFSI_FSI_CHECKPOINT_EVERY [10] steps), BIOFSI_FSI_RESTART (such a file: continue that run from
 // it, with its series read back from BIOFSI_FSI_SERIES so the analysis covers the whole run; the
 // step size may differ from the one that wrote it, for time-step studies of a periodic state),

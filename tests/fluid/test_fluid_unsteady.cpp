@@ -104,10 +104,9 @@ SheddingCase dfg2d2() {
 }
 
 Mesh shedding_mesh(const SheddingCase& c, int refine) {
-  const char* file = std::getenv("BIOFSI_UNSTEADY_MESH");
-  const std::string path =
-      file && *file ? std::string(file) : mesh_file(c.mesh + std::to_string(refine));
-  Mesh mesh = read_gmsh(path, benchmark_thickness);
+  const char* file = std::getenv("BIOFSI_UNSTEADY_MESH");  // a .msh path: mesh_file passes it on
+  Mesh mesh = read_gmsh(mesh_file(file && *file ? file : c.mesh + std::to_string(refine)),
+                        benchmark_thickness);
   if (c.fluid_block_only) mesh = submesh(mesh, {"fluid"});
   add_union_set(mesh, c.body_sets, "body");
   return mesh;
