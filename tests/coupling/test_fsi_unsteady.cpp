@@ -6,11 +6,13 @@
 // Neither passes on refine 1, and the fluid mesh is why: the flag alone is right there (CSM3,
 // tests/structure/test_csm3.cpp: 3.6% fast), the fluid alone is not (CFD3,
 // tests/fluid/test_fluid_unsteady.cpp: lift amplitude -68%, frequency -6.8%; on refine 2 or with
-// a finer wake -9 to -13% and -1.0%). BIOFSI_FSI_MESH runs these on such a mesh.
+// a finer wake -9 to -13% and -1.0%). BIOFSI_FSI_MESH=turek_hron_wake runs these on the mesh
+// with the finer wake, where CFD3 passes; neither passes there either (below).
 //
-// Environment, for studies (defaults in brackets): BIOFSI_FSI_REFINE [1], BIOFSI_FSI_MESH (a .msh
-// file of cases/meshes/turek_hron.geo made with other gmsh parameters: replaces the refine-th
-// mesh of the build; test_fluid_unsteady's CFD3 measures a candidate's wake), BIOFSI_FSI_DT [FSI2
+// Environment, for studies (defaults in brackets): BIOFSI_FSI_REFINE [1], BIOFSI_FSI_MESH (a mesh
+// of the build, e.g. turek_hron_wake, or a .msh file of cases/meshes/turek_hron.geo made with
+// other gmsh parameters: replaces the refine-th mesh; test_fluid_unsteady's CFD3 measures a
+// candidate's wake), BIOFSI_FSI_DT [FSI2
 // 0.02, FSI3 0.01], BIOFSI_FSI_T_END [FSI2 8, FSI3 5], BIOFSI_FSI_RAMP [0.5], BIOFSI_FSI_KICK
 // [FSI2 4, FSI3 0: the peak of the transverse seeding pulse on the flag, m/s^2], BIOFSI_FSI_THETA
 // [FSI2 0.52, FSI3 0.5: fluid and structure], BIOFSI_FSI_STIFFENING [2: the fluid mesh's],
@@ -25,6 +27,25 @@
 //
 // How the numbers are taken: as the benchmark does, over the last full period of each signal
 // (oscillation.hpp, tested in the default suite).
+//
+// On turek_hron_wake (stop 15, one thread each, 7106 nodes per layer; 15-30 s a step): FSI3
+// with dt 0.01 grew out of rest to the shedding state by t ~ 2.7 s (refine 1: 3.6 s) and
+// overshot: at t = 2.7-2.9 s lift +-286 (+92%), u_y +-0.040 (+18%), two cut steps. Continued
+// from its state at t = 2.9 s with dt 0.005 to t = 3.745 s (u_y periodic, amplitude change
+// +0.9% over the last period; lift still +8.6%): every frequency within 1.5% of the benchmark's
+// (u_y 5.35 Hz +0.9%, lift 5.33 Hz +0.7%, drag 10.76 Hz -1.3%; refine 1: -4.5%) and u_y(A)
+// +-3.27e-2 (-4.8%), drag mean 457.9 (+0.2%), but lift +-195 (+31%), drag +-29.2 (+29%) and
+// u_x(A) ~+15% (its analysis found no full period after t = 3.3 s). FSI2 (theta
+// 0.52, dt 0.02, stiffening 2) turned a fluid cell beside the flag's tip inside out at t = 4.48 s
+// (the wake mesh's cells beside the flag are half as thick as refine 1's; minimum scaled Jacobian
+// 0.05 at u_y = 0.063); continued from t = 4.40 s with BIOFSI_FSI_STIFFENING=3 (0.55 at the same
+// swing) it ran clean to t = 6.9 s, periodic (u_y amplitude change +0.1%): u_y(A) +-6.61e-2
+// (-18.0%) at 1.936 Hz (-3.2%), u_x(A) amplitude -24%, drag 190.5 +- 56.4 (mean -8.8%,
+// amplitude -23%), lift +-176 (-25%): as on refine 1. So FSI2's low amplitudes are not the wake;
+// the flag's discretisation is a candidate (CSM3, the flag alone: u_y amplitude -7.9% on refine
+// 1's flag, -2.4% on refine 2's; hex8 bending with 4 elements through the thickness), as is the
+// dissipation of theta 0.52. FSI3's force amplitudes fall with the step (dt 0.01 -> 0.005: lift
+// +92% -> +31%) while its displacement is already right.
 //
 // The start differs from the benchmark's on purpose: the inflow is ramped over BIOFSI_FSI_RAMP
 // seconds instead of 2, to reach the periodic state in fewer steps; the periodic state does not
