@@ -1,5 +1,5 @@
-// Numbers from environment variables, for the long runs' studies (mesh, step, end time...): a
-// value that does not parse as a finite number fails the test and leaves the default in place.
+// Values from environment variables, for the long runs' studies (mesh, step, end time...): a
+// number that does not parse as a finite one fails the test and leaves the default in place.
 // Header-only; any test may include it.
 #pragma once
 
@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <string>
 
 namespace biofsi {
 namespace test {
@@ -21,6 +22,12 @@ inline double env_or(const char* name, double fallback) {
     return fallback;
   }
   return x;
+}
+
+// The variable's text, or `fallback` where it is unset or empty.
+inline std::string env_or(const char* name, const std::string& fallback) {
+  const char* v = std::getenv(name);
+  return v && *v ? std::string(v) : fallback;
 }
 
 }  // namespace test

@@ -9,10 +9,10 @@
 // a finer wake -9 to -13% and -1.0%). BIOFSI_FSI_MESH=turek_hron_wake runs these on the mesh
 // with the finer wake, where CFD3 passes; neither passes there either (below).
 //
-// Environment, for studies (defaults in brackets): BIOFSI_FSI_REFINE [1], BIOFSI_FSI_MESH (a mesh
-// of the build, e.g. turek_hron_wake, or a .msh file of cases/meshes/turek_hron.geo made with
-// other gmsh parameters: replaces the refine-th mesh; test_fluid_unsteady's CFD3 measures a
-// candidate's wake), BIOFSI_FSI_DT [FSI2
+// Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [turek_hron_r1: a mesh of
+// the build, e.g. turek_hron_wake or turek_hron_r2, or the path of a .msh file of
+// cases/meshes/turek_hron.geo made with other gmsh parameters; test_fluid_unsteady's CFD3
+// measures a candidate's wake], BIOFSI_FSI_DT [FSI2
 // 0.02, FSI3 0.01], BIOFSI_FSI_T_END [FSI2 8, FSI3 5], BIOFSI_FSI_RAMP [0.5], BIOFSI_FSI_KICK
 // [FSI2 4, FSI3 0: the peak of the transverse seeding pulse on the flag, m/s^2], BIOFSI_FSI_THETA
 // [FSI2 0.52, FSI3 0.5: fluid and structure], BIOFSI_FSI_STIFFENING [2: the fluid mesh's],
@@ -240,16 +240,14 @@ int read_checkpoint(const std::string& path, TurekHronFsi& th, double dt) {
 }
 
 Series run(const UnsteadyCase& c) {
-  const int refine = static_cast<int>(env_or("BIOFSI_FSI_REFINE", 1));
   const double dt = env_or("BIOFSI_FSI_DT", c.dt), t_end = env_or("BIOFSI_FSI_T_END", c.t_end);
   const double ramp_time = env_or("BIOFSI_FSI_RAMP", 0.5);
   const char* folder = std::getenv("BIOFSI_FSI_SERIES");
   const double theta = env_or("BIOFSI_FSI_THETA", c.theta);
   const double stiffening = env_or("BIOFSI_FSI_STIFFENING", 2);
-  const char* mesh = std::getenv("BIOFSI_FSI_MESH");
   auto th = make_turek_hron(
-      mesh && *mesh ? std::string(mesh) : "turek_hron_r" + std::to_string(refine), c.parameters,
-      false, theta, ShapeDerivatives::FiniteDifference,
+      env_or("BIOFSI_FSI_MESH", std::string("turek_hron_r1")), c.parameters, false, theta,
+      ShapeDerivatives::FiniteDifference,
       [stiffening](FsiSettings& s) {
         // Every field to 1e-6 of its largest residual in the step: the step's own
         // discretisation error is far larger.

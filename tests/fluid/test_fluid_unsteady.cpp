@@ -110,10 +110,7 @@ SheddingCase dfg2d2() {
   return c;
 }
 
-std::string mesh_name(const SheddingCase& c) {
-  const char* name = std::getenv("BIOFSI_UNSTEADY_MESH");
-  return name && *name ? name : c.mesh;
-}
+std::string mesh_name(const SheddingCase& c) { return env_or("BIOFSI_UNSTEADY_MESH", c.mesh); }
 
 Mesh shedding_mesh(const SheddingCase& c) {
   Mesh mesh = read_gmsh(mesh_file(mesh_name(c)), benchmark_thickness);
