@@ -80,6 +80,7 @@ FluidSettings fluid_settings(const Scene& scene) {
   s.theta = scene.time.theta;
   s.supg = f.supg;
   s.grad_div = f.grad_div;
+  s.transient_tau = f.transient_tau;
   s.pseudo_2d = f.pseudo_2d;
   s.blocks = f.blocks;
   s.symmetric_viscous = f.symmetric_viscous;

@@ -217,6 +217,7 @@ void FluidField::prepare(double inv_dt, double theta) {
   p.density = settings_.density;
   p.viscosity = settings_.viscosity;
   p.inv_dt = inv_dt;
+  p.tau_inv_dt = settings_.transient_tau ? inv_dt : 0.0;
   p.theta = theta;
   p.supg = settings_.supg;
   p.grad_div = settings_.grad_div;

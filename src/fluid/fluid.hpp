@@ -59,6 +59,8 @@ struct FluidSettings {
   double theta = 0.66;
   bool supg = true, grad_div = true;
   bool symmetric_viscous = true;  // false: grad u form (benchmark do-nothing outflow)
+  // tau_M with the (2/dt)^2 term (Bazilevs et al.); false: the steady tau_M in every step.
+  bool transient_tau = true;
   FluidLinearisation linearisation = FluidLinearisation::Full;
   bool pseudo_2d = false;           // w = 0 at every node
   std::vector<std::string> blocks;  // blocks that hold fluid (empty: all); other nodes are fixed

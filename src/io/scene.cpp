@@ -535,9 +535,10 @@ void read_fluid_field(const Checker& c, const MapView& f, const std::set<std::st
                       Scene& scene) {
   auto node = f.get("fluid");
   if (!node) return;
-  MapView m(c, *node, f.key("fluid"),
-            {"enabled", "blocks", "density", "viscosity", "mode", "supg", "grad_div", "pseudo_2d",
-             "viscous_form", "preconditioner", "boundary_conditions"});
+  MapView m(
+      c, *node, f.key("fluid"),
+      {"enabled", "blocks", "density", "viscosity", "mode", "supg", "grad_div", "transient_tau",
+       "pseudo_2d", "viscous_form", "preconditioner", "boundary_conditions"});
   FluidFieldSpec& spec = scene.fluid;
   spec.enabled = get_bool(m, "enabled", true);
   const std::string blocks_expected =
@@ -559,6 +560,7 @@ void read_fluid_field(const Checker& c, const MapView& f, const std::set<std::st
   spec.mode = get_choice(m, "mode", {"steady", "transient"}, spec.mode);
   spec.supg = get_bool(m, "supg", spec.supg);
   spec.grad_div = get_bool(m, "grad_div", spec.grad_div);
+  spec.transient_tau = get_bool(m, "transient_tau", spec.transient_tau);
   spec.pseudo_2d = get_bool(m, "pseudo_2d", spec.pseudo_2d);
   spec.symmetric_viscous =
       get_choice(m, "viscous_form", {"symmetric", "gradient"}, "symmetric") == "symmetric";

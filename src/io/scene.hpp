@@ -75,6 +75,7 @@ struct FluidFieldSpec {
   double density = 1, viscosity = 1;      // > 0 [mass/mm^3], dynamic [mass/(mm ms)]
   std::string mode = "steady";            // steady | transient (every inner step)
   bool supg = true, grad_div = true;      // stabilisation terms besides PSPG
+  bool transient_tau = true;              // tau_M with its (2/dt)^2 term
   bool pseudo_2d = false;                 // w = 0 everywhere (one element thick runs)
   bool symmetric_viscous = true;          // false: the grad u form (benchmarks' do-nothing outflow)
   std::string preconditioner = "simple";  // simple | simplec | monolithic_amg

@@ -485,6 +485,7 @@ const std::string kFluid = R"yaml(  fluid:
     mode: transient
     supg: false
     grad_div: false
+    transient_tau: false
     pseudo_2d: true
     viscous_form: gradient
     preconditioner: simplec
@@ -511,6 +512,7 @@ TEST(Scene, ReadsTheFluidField) {
   EXPECT_EQ(f.mode, "transient");
   EXPECT_FALSE(f.supg);
   EXPECT_FALSE(f.grad_div);
+  EXPECT_FALSE(f.transient_tau);
   EXPECT_TRUE(f.pseudo_2d);
   EXPECT_FALSE(f.symmetric_viscous);
   EXPECT_EQ(f.preconditioner, "simplec");
