@@ -217,20 +217,32 @@ void write_checkpoint(const std::string& path, const TurekHronFsi& th, int step,
   std::rename(tmp.c_str(), path.c_str());  // a run killed while writing keeps the last one
 }
 
+// The leading fields of a checkpoint (write_checkpoint), read from `in`.
+struct CheckpointHeader {
+  int nodes = 0, step = 0;
+  double dt = 0;
+};
+
+CheckpointHeader read_checkpoint_header(std::ifstream& in, const std::string& path) {
+  char magic[sizeof checkpoint_magic] = {};
+  CheckpointHeader h;
+  in.read(magic, sizeof magic);
+  in.read(reinterpret_cast<char*>(&h.nodes), sizeof h.nodes);
+  in.read(reinterpret_cast<char*>(&h.step), sizeof h.step);
+  in.read(reinterpret_cast<char*>(&h.dt), sizeof h.dt);
+  if (!in || std::string(magic) != checkpoint_magic)
+    throw std::runtime_error(path + ": not a checkpoint of test_fsi_unsteady");
+  return h;
+}
+
 // Restores a checkpoint of the same case and mesh; returns the number of steps of size dt that
 // reach its time, which may have been reached with another step size (a time-step study from a
 // periodic state: one-step-theta needs only the state at t_n).
 int read_checkpoint(const std::string& path, TurekHronFsi& th, double dt) {
   std::ifstream in(path, std::ios::binary);
-  char magic[sizeof checkpoint_magic] = {};
-  int n = 0, saved_step = 0;
-  double saved_dt = 0;
-  in.read(magic, sizeof magic);
-  in.read(reinterpret_cast<char*>(&n), sizeof n);
-  in.read(reinterpret_cast<char*>(&saved_step), sizeof saved_step);
-  in.read(reinterpret_cast<char*>(&saved_dt), sizeof saved_dt);
-  if (!in || std::string(magic) != checkpoint_magic)
-    throw std::runtime_error(path + ": not a checkpoint of test_fsi_unsteady");
+  const CheckpointHeader h = read_checkpoint_header(in, path);
+  const int n = h.nodes, saved_step = h.step;
+  const double saved_dt = h.dt;
   if (n != th.mesh.n_nodes())
     throw std::runtime_error(path + ": written for " + std::to_string(n) +
                              " nodes, this run's mesh has " + std::to_string(th.mesh.n_nodes()));
@@ -277,16 +289,8 @@ std::vector<Stage> stages_of(const UnsteadyCase& c) {
 // The time a checkpoint was written at.
 double checkpoint_time(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  char magic[sizeof checkpoint_magic] = {};
-  int n = 0, step = 0;
-  double dt = 0;
-  in.read(magic, sizeof magic);
-  in.read(reinterpret_cast<char*>(&n), sizeof n);
-  in.read(reinterpret_cast<char*>(&step), sizeof step);
-  in.read(reinterpret_cast<char*>(&dt), sizeof dt);
-  if (!in || std::string(magic) != checkpoint_magic)
-    throw std::runtime_error(path + ": not a checkpoint of test_fsi_unsteady");
-  return step * dt;
+  const CheckpointHeader h = read_checkpoint_header(in, path);
+  return h.step * h.dt;
 }
 
 std::unique_ptr<TurekHronFsi> build(const UnsteadyCase& c, const Stage& stage) {

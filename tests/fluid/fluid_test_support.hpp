@@ -32,6 +32,18 @@ inline FluidFunction constant(double v) {
   return [v](const Point&, double) { return v; };
 }
 
+// An enclosed flow on the unit square: its four walls driven with velocity (ux, uy, 0) and the
+// pressure level, which only a pin can fix, set at the "pin" node set.
+inline std::vector<FluidBoundaryCondition> driven_walls(const FluidFunction& ux,
+                                                        const FluidFunction& uy,
+                                                        const FluidFunction& pin_pressure) {
+  std::vector<FluidBoundaryCondition> bcs;
+  for (const char* side : {"left", "right", "bottom", "top"})
+    bcs.push_back(fluid_velocity(side, ux, uy, constant(0.0)));
+  bcs.push_back(fluid_pressure("pin", pin_pressure));
+  return bcs;
+}
+
 inline std::vector<double> random_values(int n, double lo, double hi, unsigned seed) {
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> dist(lo, hi);

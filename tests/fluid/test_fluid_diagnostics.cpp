@@ -30,10 +30,7 @@ TEST(FluidScratch, DISABLED_Diagnose) {
   const FluidFunction uy = [](const Point& x, double) {
     return -std::cos(pi * x[0]) * std::sin(pi * x[1]);
   };
-  std::vector<FluidBoundaryCondition> bcs;
-  for (const char* side : {"left", "right", "bottom", "top"})
-    bcs.push_back(fluid_velocity(side, ux, uy, constant(0.0)));
-  bcs.push_back(fluid_pressure("pin", constant(0.0)));
+  const auto bcs = driven_walls(ux, uy, constant(0.0));
   FluidField field(mesh, s, bcs);
   field.set_initial(nullptr, nullptr, 0.0);
   if (std::getenv("BF"))

@@ -68,10 +68,7 @@ std::vector<double> solve(const Variant& v, int steps) {
   const FluidFunction uy = [](const Point& x, double t) {
     return -wall_speed(t) * std::cos(pi * x[0]) * std::sin(pi * x[1]);
   };
-  std::vector<FluidBoundaryCondition> bcs;
-  for (const char* side : {"left", "right", "bottom", "top"})
-    bcs.push_back(fluid_velocity(side, ux, uy, constant(0.0)));
-  bcs.push_back(fluid_pressure("pin", constant(0.0)));
+  const auto bcs = driven_walls(ux, uy, constant(0.0));
   FluidField field(reference, s, bcs);
   field.set_initial(nullptr, nullptr, 0.0);
   const double dt = t_end / steps;

@@ -71,11 +71,7 @@ MmsErrors solve_mms(int n) {
   FluidSettings s = tight_fluid_settings(1.0, mms_mu);
   const FluidFunction ux = [](const Point& x, double) { return Mms::u(x)[0]; };
   const FluidFunction uy = [](const Point& x, double) { return Mms::u(x)[1]; };
-  std::vector<FluidBoundaryCondition> bcs;
-  for (const char* side : {"left", "right", "bottom", "top"})
-    bcs.push_back(fluid_velocity(side, ux, uy, constant(0.0)));
-  // All velocity on the boundary: the pressure level is pinned at one corner.
-  bcs.push_back(fluid_pressure("pin", [](const Point& x, double) { return Mms::p(x); }));
+  const auto bcs = driven_walls(ux, uy, [](const Point& x, double) { return Mms::p(x); });
   FluidField field(mesh, s, bcs);
   field.set_initial(nullptr, nullptr, 0.0);
   field.set_body_force([](const Point& x, double) { return Mms::body_force(x); });
