@@ -116,7 +116,6 @@ struct Problem {
     phys.density = 1;
     phys.viscosity = 1e-2;
     phys.inv_dt = 10;
-    phys.tau_inv_dt = 10;
     phys.theta = 0.66;
     op = std::make_unique<ElementOperator<FluidPhysics>>(device.conn, device.x,
                                                          device.element_block, aux, phys);

@@ -23,8 +23,8 @@
 //   tau_C = 1 / (tau_M,s tr G),   tau_M,s = tau_M without the (2/dt)^2 term
 // In 1-D (G = 4/h^2) tau_M -> h/(2|c|) (advective) and h^2/(24 nu) (viscous), tau_C -> |c| h/2.
 // tau_C uses the steady tau_M so that grad-div does not grow like 1/dt for tiny time steps.
-// FluidSettings::transient_tau = false drops the (2/dt)^2 term (tau_inv_dt = 0): the stabilised
-// operator then does not change with the step (tests/fluid/test_fluid_time_order.cpp).
+// transient_tau = false drops the (2/dt)^2 term: the stabilised operator then does not change
+// with the step (tests/fluid/test_fluid_time_order.cpp).
 //
 // Linearisation (FluidLinearisation): Full is the exact derivative of the residual, the
 // dependence of tau_M and tau_C on the convective velocity included; LaggedTau holds tau_M and
@@ -80,10 +80,10 @@ struct FluidPhysics {
   static constexpr int n_components = 4, n_aux = 9, n_aux_gradients = 3;
   Real density = 1, viscosity = 1e-3;  // rho, dynamic viscosity mu
   Real inv_dt = 0;                     // 0: steady
-  Real tau_inv_dt = 0;                 // the 1/dt that tau_M sees (0: steady tau_M)
   Real theta = 1;
   bool supg = true, grad_div = true;  // PSPG is always on: Q1-Q1 needs it
   bool symmetric_viscous = true;
+  bool transient_tau = true;  // tau_M with its (2/dt)^2 term
   FluidLinearisation linearisation = FluidLinearisation::Full;
 
   struct Local {
@@ -97,7 +97,7 @@ struct FluidPhysics {
       l.c[i] = u[i] - q.aux[3 + i];
       l.cn[i] = q.aux[i] - q.aux[3 + i];
     }
-    l.tau = fluid_tau(l.c, q.metric, viscosity / density, tau_inv_dt);
+    l.tau = fluid_tau(l.c, q.metric, viscosity / density, transient_tau ? inv_dt : Real(0));
     if (!grad_div) {
       l.tau.c = 0;
       for (int i = 0; i < 3; ++i) l.tau.d_c[i] = 0;

@@ -217,11 +217,11 @@ void FluidField::prepare(double inv_dt, double theta) {
   p.density = settings_.density;
   p.viscosity = settings_.viscosity;
   p.inv_dt = inv_dt;
-  p.tau_inv_dt = settings_.transient_tau ? inv_dt : 0.0;
   p.theta = theta;
   p.supg = settings_.supg;
   p.grad_div = settings_.grad_div;
   p.symmetric_viscous = settings_.symmetric_viscous;
+  p.transient_tau = settings_.transient_tau;
   p.linearisation = settings_.linearisation;
   op_.set_physics(p);
 }

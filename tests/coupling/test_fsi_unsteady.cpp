@@ -241,12 +241,11 @@ CheckpointHeader read_checkpoint_header(std::ifstream& in, const std::string& pa
 int read_checkpoint(const std::string& path, TurekHronFsi& th, double dt) {
   std::ifstream in(path, std::ios::binary);
   const CheckpointHeader h = read_checkpoint_header(in, path);
-  const int n = h.nodes, saved_step = h.step;
-  const double saved_dt = h.dt;
+  const int n = h.nodes;
   if (n != th.mesh.n_nodes())
     throw std::runtime_error(path + ": written for " + std::to_string(n) +
                              " nodes, this run's mesh has " + std::to_string(th.mesh.n_nodes()));
-  const double t = saved_step * saved_dt;
+  const double t = h.step * h.dt;
   const int step = static_cast<int>(std::lround(t / dt));
   if (std::abs(step * dt - t) > 1e-9 * t)
     throw std::runtime_error(

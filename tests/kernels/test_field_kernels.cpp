@@ -79,7 +79,6 @@ double fluid_defect(bool transient) {
   p.density = 1.0;
   p.viscosity = 0.01;  // element Reynolds number ~ 10: convection and SUPG matter
   p.inv_dt = transient ? 20.0 : 0.0;
-  p.tau_inv_dt = p.inv_dt;
   p.theta = 0.66;
   // aux: u_n, u_grid, b
   const NodalView aux = auxiliary(m, FluidPhysics::n_aux, [](int c, double x, double y, double z) {
