@@ -3,19 +3,26 @@
 // src/fluid (and, later, the FSI coupling); depends on kernels/core only. Nothing here knows of
 // meshes, boundary conditions or solvers.
 //
-// Unknowns per node: (u, v, w, p), interleaved. At one point, one-step-theta (theta = 1,
-// inv_dt = 0 gives the steady problem), c = u - u_grid the ALE convective velocity (eq. 4):
-//   R_M = rho ((u - u_n)/dt + theta (c.grad)u + (1 - theta)(c_n.grad)u_n - b) + grad p
+// Unknowns per node: (u, v, w, p), interleaved. One-step-theta in its midpoint form (theta = 1,
+// inv_dt = 0 gives the steady problem): every term is evaluated at the state
+// u_theta = theta u + (1 - theta) u_n with the time derivative (u - u_n)/dt, and p is the pressure
+// at t_{n+theta}. With c = u_theta - u_grid the ALE convective velocity (eq. 4):
+//   R_M = rho ((u - u_n)/dt + (c.grad)u_theta - b) + grad p
 //         (strong momentum residual; the viscous second derivatives, which vanish for Q1 on affine
 //         elements, are neglected as usual for trilinear elements)
-//   momentum f0 = R_M - grad p,  f1 = mu theta E(u) + mu (1 - theta) E(u_n) - p I
+//   momentum f0 = R_M - grad p,  f1 = mu E(u_theta) - p I
 //                                     + tau_M c (x) R_M            (SUPG)
-//                                     + rho tau_C (div u) I         (grad-div)
-//   continuity f0 = div u,        f1 = tau_M R_M / rho              (PSPG)
+//                                     + rho tau_C (div u_theta) I  (grad-div)
+//   continuity f0 = div u_theta,  f1 = tau_M R_M / rho              (PSPG)
 // with E(u) = grad u + grad u^T (symmetric, paper eq. 2) or grad u (the "Laplacian" form, whose
-// do-nothing outflow is the one the DFG/Turek benchmarks define). Pressure and continuity are
-// implicit at t_{n+1}; b is the body force at t_{n+theta}. All terms live on the current
-// configuration, so a constant state is an exact discrete solution under any mesh motion (GCL).
+// do-nothing outflow is the one the DFG/Turek benchmarks define). b is the body force at
+// t_{n+theta}. theta = 1 is backward Euler; theta = 1/2 is the implicit midpoint rule, i.e. the
+// generalized-alpha method of Jansen, Whiting & Hulbert (CMAME 190 (2000) 305) with rho_inf = 1.
+// Why every term at one time level: the stabilisation terms contain the time derivative, so
+// the continuity equation is a differential one; with the trapezoidal form (convection and
+// viscosity averaged, continuity, SUPG, PSPG and tau at t_{n+1}) Crank-Nicolson was first order
+// (tests/fluid/test_fluid_time_order.cpp). All terms live on the current configuration, so a
+// constant state is an exact discrete solution under any mesh motion (GCL).
 //
 // Stabilisation parameters (metric form of Shakib/Tezduyar as used by Bazilevs et al., CMAME 197
 // (2007) 173, with G the metric of the reference cell [-1,1]^3 carried in QpData):
@@ -86,16 +93,19 @@ struct FluidPhysics {
   bool transient_tau = true;  // tau_M with its (2/dt)^2 term
   FluidLinearisation linearisation = FluidLinearisation::Full;
 
+  // The velocity and its gradient at t_{n+theta}, the convective velocity there and tau.
   struct Local {
-    Real c[3], cn[3];
+    Real u[3], gu[3][3], c[3];
     FluidTau tau;
   };
 
-  KOKKOS_INLINE_FUNCTION Local local(const QpData<n_aux>& q, const Real u[4]) const {
+  KOKKOS_INLINE_FUNCTION Local local(const QpData<n_aux>& q, const Real u[4],
+                                     const Real gu[4][3]) const {
     Local l;
     for (int i = 0; i < 3; ++i) {
-      l.c[i] = u[i] - q.aux[3 + i];
-      l.cn[i] = q.aux[i] - q.aux[3 + i];
+      l.u[i] = theta * u[i] + (1 - theta) * q.aux[i];
+      for (int j = 0; j < 3; ++j) l.gu[i][j] = theta * gu[i][j] + (1 - theta) * q.grad_aux[i][j];
+      l.c[i] = l.u[i] - q.aux[3 + i];
     }
     l.tau = fluid_tau(l.c, q.metric, viscosity / density, transient_tau ? inv_dt : Real(0));
     if (!grad_div) {
@@ -107,74 +117,78 @@ struct FluidPhysics {
 
   // Momentum terms without the pressure gradient: rho (du/dt + convection - b).
   KOKKOS_INLINE_FUNCTION void momentum(const QpData<n_aux>& q, const Local& l, const Real u[4],
-                                       const Real gu[4][3], Real m[3]) const {
+                                       Real m[3]) const {
     for (int i = 0; i < 3; ++i) {
-      Real conv = 0, conv_n = 0;
-      for (int j = 0; j < 3; ++j) {
-        conv += l.c[j] * gu[i][j];
-        conv_n += l.cn[j] * q.grad_aux[i][j];
-      }
-      m[i] = density *
-             ((u[i] - q.aux[i]) * inv_dt + theta * conv + (1 - theta) * conv_n - q.aux[6 + i]);
+      Real conv = 0;
+      for (int j = 0; j < 3; ++j) conv += l.c[j] * l.gu[i][j];
+      m[i] = density * ((u[i] - q.aux[i]) * inv_dt + conv - q.aux[6 + i]);
     }
+  }
+
+  KOKKOS_INLINE_FUNCTION static Real divergence(const Real g[3][3]) {
+    return g[0][0] + g[1][1] + g[2][2];
   }
 
   KOKKOS_INLINE_FUNCTION void residual(const QpData<n_aux>& q, const Real u[4], const Real gu[4][3],
                                        Real f0[4], Real f1[4][3]) const {
-    const Local l = local(q, u);
+    const Local l = local(q, u, gu);
     Real m[3], r[3];
-    momentum(q, l, u, gu, m);
+    momentum(q, l, u, m);
     for (int i = 0; i < 3; ++i) r[i] = m[i] + gu[3][i];
-    const Real div = gu[0][0] + gu[1][1] + gu[2][2];
+    const Real div = divergence(l.gu);
     const Real s = symmetric_viscous ? 1.0 : 0.0;
     for (int i = 0; i < 3; ++i) {
       f0[i] = m[i];
-      for (int j = 0; j < 3; ++j) {
-        const Real e = gu[i][j] + s * gu[j][i];
-        const Real en = q.grad_aux[i][j] + s * q.grad_aux[j][i];
+      for (int j = 0; j < 3; ++j)
         f1[i][j] =
-            viscosity * (theta * e + (1 - theta) * en) + (supg ? l.tau.m * l.c[j] * r[i] : 0.0);
-      }
+            viscosity * (l.gu[i][j] + s * l.gu[j][i]) + (supg ? l.tau.m * l.c[j] * r[i] : 0.0);
       f1[i][i] += density * l.tau.c * div - u[3];
     }
     f0[3] = div;
     for (int j = 0; j < 3; ++j) f1[3][j] = l.tau.m * r[j] / density;
   }
 
+  // du is the variation of u at t_{n+1}; the state at t_{n+theta} varies by theta du.
   KOKKOS_INLINE_FUNCTION void tangent(const QpData<n_aux>& q, const Real u[4], const Real gu[4][3],
                                       const Real du[4], const Real gdu[4][3], Real df0[4],
                                       Real df1[4][3]) const {
-    const Local l = local(q, u);
+    const Local l = local(q, u, gu);
     const bool newton = linearisation != FluidLinearisation::Picard;
     const bool full = linearisation == FluidLinearisation::Full;
     Real dr[3], r[3] = {0, 0, 0};
     if (newton) {
       Real m[3];
-      momentum(q, l, u, gu, m);
+      momentum(q, l, u, m);
       for (int i = 0; i < 3; ++i) r[i] = m[i] + gu[3][i];
     }
-    // Variations of tau along dc = du (velocity part), Full only.
+    Real dut[3], gdut[3][3];
+    for (int i = 0; i < 3; ++i) {
+      dut[i] = theta * du[i];
+      for (int j = 0; j < 3; ++j) gdut[i][j] = theta * gdu[i][j];
+    }
+    // Variations of tau along dc = theta du (velocity part), Full only.
     Real dtm = 0, dtc = 0;
     if (full)
       for (int i = 0; i < 3; ++i) {
-        dtm += l.tau.d_m[i] * du[i];
-        dtc += l.tau.d_c[i] * du[i];
+        dtm += l.tau.d_m[i] * dut[i];
+        dtc += l.tau.d_c[i] * dut[i];
       }
     for (int i = 0; i < 3; ++i) {
       Real dconv = 0;
-      for (int j = 0; j < 3; ++j) dconv += l.c[j] * gdu[i][j] + (newton ? du[j] * gu[i][j] : 0.0);
-      df0[i] = density * (du[i] * inv_dt + theta * dconv);
+      for (int j = 0; j < 3; ++j)
+        dconv += l.c[j] * gdut[i][j] + (newton ? dut[j] * l.gu[i][j] : 0.0);
+      df0[i] = density * (du[i] * inv_dt + dconv);
       dr[i] = df0[i] + gdu[3][i];
     }
-    const Real div = gu[0][0] + gu[1][1] + gu[2][2];
-    const Real ddiv = gdu[0][0] + gdu[1][1] + gdu[2][2];
+    const Real div = divergence(l.gu);
+    const Real ddiv = divergence(gdut);
     const Real s = symmetric_viscous ? 1.0 : 0.0;
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
-        df1[i][j] = viscosity * theta * (gdu[i][j] + s * gdu[j][i]);
+        df1[i][j] = viscosity * (gdut[i][j] + s * gdut[j][i]);
         if (supg)
           df1[i][j] +=
-              l.tau.m * (l.c[j] * dr[i] + (newton ? du[j] * r[i] : 0.0)) + dtm * l.c[j] * r[i];
+              l.tau.m * (l.c[j] * dr[i] + (newton ? dut[j] * r[i] : 0.0)) + dtm * l.c[j] * r[i];
       }
       df1[i][i] += density * (l.tau.c * ddiv + dtc * div) - du[3];
     }

@@ -112,6 +112,9 @@ struct FsiProblem::Impl {
 
   // The solve being set up: u_F = a s + b on Γ, grid velocity (d_G - d_G,n) inv_dt.
   double a = 0, inv_dt = 0;
+  // The fluid solves on x_ref + g_old + w (g - g_old): w = theta, the time level of every fluid
+  // term (kernels/fluid/pointwise.hpp); 1 for steady solves and between steps.
+  double configuration_weight = 1;
   Vector b, g_old, g_now, grid_velocity;
   // Work vectors.
   Vector xs, dxs, r_base, f_work, g_dir, pre_work;
@@ -329,18 +332,19 @@ void sync_direction(const FsiProblem::Impl& m, ConstVector dx, Vector dxs) {
       });
 }
 
-// x_work = x_ref + g, grid velocity (g - g_old) inv_dt, handed to the fluid.
+// x_work = x_ref + g_old + w (g - g_old), grid velocity (g - g_old) inv_dt, handed to the fluid.
 void move_fluid_mesh(FsiProblem::Impl& m, ConstVector g) {
   auto x = m.x_work;
   auto x0 = m.x_ref;
   auto ug = m.grid_velocity;
   auto g_old = m.g_old;
-  const double inv_dt = m.inv_dt;
+  const double inv_dt = m.inv_dt, w = m.configuration_weight;
   Kokkos::parallel_for(
       "biofsi::fsi_move_mesh", Kokkos::RangePolicy<ExecSpace>(0, m.nn), KOKKOS_LAMBDA(int n) {
         for (int d = 0; d < 3; ++d) {
-          x(n, d) = x0(n, d) + g(3 * n + d);
-          ug(3 * n + d) = (g(3 * n + d) - g_old(3 * n + d)) * inv_dt;
+          const Real dg = g(3 * n + d) - g_old(3 * n + d);
+          x(n, d) = x0(n, d) + g_old(3 * n + d) + w * dg;
+          ug(3 * n + d) = dg * inv_dt;
         }
       });
   m.fluid.set_geometry(m.x_work, m.grid_velocity);
@@ -608,6 +612,7 @@ void FsiProblem::prepare_step(double dt) {
   m.structure.begin_step(dt);
   m.fluid.begin_step(dt);
   m.inv_dt = 1.0 / dt;
+  m.configuration_weight = m.fluid.settings().theta;
   if (m.structure.settings().quasi_static) {
     m.a = 1.0 / dt;
     fill(m.b, 0);
@@ -634,6 +639,7 @@ void FsiProblem::prepare_steady() {
   m.structure.begin_step(0.0);
   m.fluid.begin_steady();
   m.inv_dt = 0;
+  m.configuration_weight = 1;
   m.a = 0;
   fill(m.b, 0);
   copy(m.g_now, m.g_old);
@@ -847,13 +853,21 @@ void FsiProblem::commit(double dt) {
   copy(m.part(m.xs, m.f_range), m.fluid.state());
   m.fluid.end_step(dt);
   copy(m.part(m.xs, m.g_range), m.g_now);
+  // The host coordinates (output, boundary data) at t_{n+1}; the fluid's operator stays on the
+  // configuration it was solved on, so tractions taken after the step are the solve's.
+  const double w = m.configuration_weight;
+  m.configuration_weight = 1;
   move_fluid_mesh(m, m.g_now);
   m.fluid.sync_host_coordinates();
+  m.configuration_weight = w;
+  move_fluid_mesh(m, m.g_now);
+  m.configuration_weight = 1;
 }
 
 void FsiProblem::restore() {
   Impl& m = *impl_;
   m.fluid.restore_old_state();
+  m.configuration_weight = 1;
   copy(m.g_old, m.g_now);
   fill(m.grid_velocity, 0);
   move_fluid_mesh(m, m.g_now);

@@ -289,9 +289,25 @@ void FluidField::update_coordinates(const Mesh& moved, double dt) {
     for (int n = 0; n < mesh_.n_nodes(); ++n)
       for (int d = 0; d < 3; ++d) ug[n][d] = (moved.x[n][d] - mesh_.x[n][d]) / dt;
     set_grid_velocity(ug);
+    previous_x_ = mesh_.x;
+  } else {
+    previous_x_.clear();
   }
   mesh_.x = moved.x;
   copy_coordinates_to_device(mesh_, dmesh_.x);
+}
+
+void FluidField::place_configuration(double weight) {
+  if (previous_x_.empty() || weight == 1) {
+    copy_coordinates_to_device(mesh_, dmesh_.x);
+    return;
+  }
+  Mesh m;
+  m.x.resize(mesh_.x.size());
+  for (size_t n = 0; n < m.x.size(); ++n)
+    for (int d = 0; d < 3; ++d)
+      m.x[n][d] = weight * mesh_.x[n][d] + (1 - weight) * previous_x_[n][d];
+  copy_coordinates_to_device(m, dmesh_.x);
 }
 
 void FluidField::impose_dirichlet(double t) {
@@ -338,6 +354,7 @@ void FluidField::apply_tangent(ConstVector u, ConstVector du, Vector y) const {
 }
 
 void FluidField::set_geometry(ConstCoordView x, ConstVector grid_velocity) {
+  previous_x_.clear();  // the caller places the configuration
   Kokkos::deep_copy(dmesh_.x, x);
   auto aux = aux_;
   Kokkos::parallel_for(
@@ -464,6 +481,7 @@ void FluidField::begin_step(double dt) {
 
 void FluidField::begin_steady() {
   save_old_state();
+  place_configuration(1.0);
   prepare(0.0, 1.0);
   update_face_data(time_);
   update_body_force(time_);
@@ -477,6 +495,7 @@ void FluidField::end_step(double dt) {
 
 NewtonResult FluidField::step_once(double dt, double theta, const std::string& label) {
   save_old_state();
+  place_configuration(theta);
   prepare(1.0 / dt, theta);
   update_face_data(time_ + theta * dt);
   update_body_force(time_ + theta * dt);

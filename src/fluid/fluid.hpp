@@ -56,6 +56,8 @@ enum class FluidPreconditioner {
 struct FluidSettings {
   double density = 1.0;
   double viscosity = 1e-3;  // dynamic
+  // Every term at u_theta = theta u_{n+1} + (1 - theta) u_n: 1 backward Euler, 0.5 the implicit
+  // midpoint rule (second order); a step's pressure is the one at t_{n+theta}.
   double theta = 0.66;
   bool supg = true, grad_div = true;
   bool symmetric_viscous = true;  // false: grad u form (benchmark do-nothing outflow)
@@ -126,7 +128,10 @@ class FluidField {
   // Nodal grid velocity u_grid (zero until set).
   void set_grid_velocity(const std::vector<Point>& ug);
   // The mesh has moved (ALE) over the coming step of length dt: takes the new coordinates and sets
-  // the grid velocity (x_new - x_old)/dt. dt <= 0 takes the coordinates only.
+  // the grid velocity (x_new - x_old)/dt. dt <= 0 takes the coordinates only. A step then solves
+  // on the configuration at t_{n+theta}, theta x_new + (1 - theta) x_old (the time level of every
+  // term, kernels/fluid/pointwise.hpp), and leaves that configuration in place for tractions
+  // until the next update; mesh() and boundary data use x_new.
   void update_coordinates(const Mesh& moved, double dt);
 
   // One-step-theta step from t to t + dt; throws SolveError("fluid", label, why) if Newton fails
@@ -213,7 +218,11 @@ class FluidField {
   void save_old_state();
   int axis_normal_of(const std::string& set) const;
 
+  // The operator's configuration: weight 1 is mesh_.x, theta is t_{n+theta} of the last move.
+  void place_configuration(double weight);
+
   Mesh mesh_;
+  std::vector<Point> previous_x_;  // coordinates before the last update_coordinates with dt > 0
   FluidSettings settings_;
   std::vector<FluidBoundaryCondition> conditions_;
   DeviceMesh dmesh_;
