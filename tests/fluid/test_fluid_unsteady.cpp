@@ -39,6 +39,11 @@
 //     passes, with little room in the lift amplitude (still falling ~1% a period).
 //   So refine 1's wake is too coarse for CFD3's shedding, and with it for FSI3's flow: CFD3 runs
 //   on the wake mesh.
+//   The numbers above were measured with the fluid's former trapezoidal theta = 0.5; with the
+//   midpoint form (stop 17, kernels/fluid/pointwise.hpp; one thread, another job alongside):
+//   DFG 2D-2 refine 1 c_L +-1.028 (+2.8%), St -2.45%, c_D max 3.2224 (-0.24%), amplitude change
+//   0.01%: passes; CFD3 on the wake mesh to t = 5 s (42 min) lift -22.4 +- 395.7 (-9.6%) at
+//   4.355 Hz (-0.9%), amplitude change -1.3%, drag mean +1.6%: passes, as before.
 // Environment: BIOFSI_UNSTEADY_MESH [CFD3 turek_hron_wake, DFG dfg_2d1_r1: a mesh of the build,
 // e.g. turek_hron_r2, or the path of a .msh of the same geometry made with other gmsh parameters],
 // BIOFSI_UNSTEADY_DT [0.01], BIOFSI_UNSTEADY_T_END [CFD3 5, DFG 6], BIOFSI_UNSTEADY_THETA [0.5],
