@@ -6,7 +6,11 @@
 // stiffness scaled by (1/det J)^chi at each point (Jacobian-based stiffening, Stein-Tezduyar-Benney
 // 2003): small elements, which sit next to the moving interface, become stiffer and move almost
 // rigidly instead of being crushed. With Dirichlet data on the whole boundary only the ratio of
-// stiffnesses matters, so the reference volume in the scaling is immaterial.
+// stiffnesses matters, so the mesh's motion does not depend on the reference det J_0 in
+// (J_0 / det J)^chi; its magnitude does matter inside the monolithic FSI, whose first Newton step
+// from rest weighs the zero-residual fields alike (src/coupling/fsi.cpp): with J_0 = 1 in SI
+// units chi = 3 made the fluid mesh's rows ~1e12 times the fluid's and the Krylov solver stalled.
+// src/ale sets J_0 to the smallest element's (pseudo_elastic_physics).
 #pragma once
 
 #include "kernels/core/element_loop.hpp"
@@ -17,12 +21,13 @@ struct PseudoElasticPhysics {
   static constexpr int n_components = 3, n_aux = 0;
   Real lambda = 0.5, mu = 1.0;  // Lame parameters (MeshMotion sets them from E = 1 and nu)
   Real stiffening = 0.0;        // chi >= 0
+  Real reference_det = 1.0;     // J_0 > 0: the det J at which the stiffness is E
 
   KOKKOS_INLINE_FUNCTION Real scale(const QpData<0>& q) const {
     if (stiffening == 0) return 1;
     // pow through exp/log: det > 0 for any valid element (an inverted one is caught by the
     // mesh-quality check before it gets here).
-    return math::exp(-stiffening * math::log(q.det));
+    return math::exp(-stiffening * math::log(q.det / reference_det));
   }
 
   // sigma = s (lambda tr(eps) I + 2 mu eps), eps = sym(grad d); linear, so the tangent is the same.

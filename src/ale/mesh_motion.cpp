@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "kernels/core/constraints.hpp"
 
@@ -56,24 +59,48 @@ AmgOptions systems_amg() {
 
 }  // namespace
 
+double centre_jacobian(const Mesh& mesh, int element) {
+  // dx/dxi at xi = 0 is sum_a x_a (xi_a / 8)^T over the corners xi_a of the reference cube.
+  constexpr int corner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  double j[3][3] = {};
+  for (int a = 0; a < 8; ++a) {
+    const Point& x = mesh.x[mesh.conn[element][a]];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) j[r][c] += x[r] * corner[a][c] / 8.0;
+  }
+  return j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) -
+         j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0]) +
+         j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+}
+
+PseudoElasticPhysics pseudo_elastic_physics(const MeshMotionSettings& settings, const Mesh& mesh,
+                                            const std::vector<int>& elements) {
+  // E = 1: only stiffness ratios matter with Dirichlet data on the whole boundary.
+  const double nu = settings.poisson_ratio;
+  PseudoElasticPhysics p;
+  p.lambda = nu / ((1 + nu) * (1 - 2 * nu));
+  p.mu = 1 / (2 * (1 + nu));
+  p.stiffening = settings.stiffening;
+  double smallest = std::numeric_limits<double>::infinity();
+  for (int e : elements) smallest = std::min(smallest, centre_jacobian(mesh, e));
+  if (!(smallest > 0))
+    throw std::invalid_argument(
+        "mesh motion: an element of the reference mesh has det J <= 0 at its centre (" +
+        std::to_string(smallest) + "); the stiffening needs a valid mesh");
+  p.reference_det = smallest;
+  return p;
+}
+
 MeshMotion::MeshMotion(const Mesh& mesh, const MeshMotionSettings& settings)
     : settings_(settings),
       topology_(mesh),
       dmesh_(to_device(mesh)),
       groups_(make_element_groups(mesh, all_elements(mesh), settings.scatter)),
-      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, ConstNodalView{}, physics()),
+      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, ConstNodalView{},
+          pseudo_elastic_physics(settings, mesh, all_elements(mesh))),
       matrix_(make_sparsity(mesh, all_elements(mesh), 3)),
       amg_(systems_amg()) {}
-
-PseudoElasticPhysics MeshMotion::physics() const {
-  // E = 1: only stiffness ratios matter with Dirichlet data on the whole boundary.
-  const double nu = settings_.poisson_ratio;
-  PseudoElasticPhysics p;
-  p.lambda = nu / ((1 + nu) * (1 - 2 * nu));
-  p.mu = 1 / (2 * (1 + nu));
-  p.stiffening = settings_.stiffening;
-  return p;
-}
 
 void MeshMotion::bind(const Mesh& mesh) {
   if (mesh.n_nodes() != topology_.n_nodes() || mesh.n_elements() != topology_.n_elements())

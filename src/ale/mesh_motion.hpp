@@ -43,6 +43,16 @@ struct MeshMotionResult {
   double max_displacement = 0;
 };
 
+// det J of an element's hex8 map at its centre (xi = 0).
+double centre_jacobian(const Mesh& mesh, int element);
+
+// The pseudo-material of a mesh motion over `elements` of `mesh`: E = 1, the settings' Poisson
+// ratio and stiffening, J_0 the smallest centre det J among those elements (so the stiffness
+// lies between E on the smallest element and ~E (J_0 / det J)^chi < E elsewhere). Throws
+// std::invalid_argument for an element with det J <= 0.
+PseudoElasticPhysics pseudo_elastic_physics(const MeshMotionSettings& settings, const Mesh& mesh,
+                                            const std::vector<int>& elements);
+
 class MeshMotion {
  public:
   MeshMotion(const Mesh& mesh, const MeshMotionSettings& settings);
@@ -59,7 +69,6 @@ class MeshMotion {
   const CsrMatrix& pattern() const { return matrix_; }
 
  private:
-  PseudoElasticPhysics physics() const;
   void bind(const Mesh& mesh);
 
   MeshMotionSettings settings_;

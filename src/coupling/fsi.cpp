@@ -219,13 +219,9 @@ FsiProblem::FsiProblem(const Mesh& mesh, FluidField& fluid, StructureField& stru
     const DeviceMesh dm = to_device(mesh);
     m.x_ref = dm.x;
     m.x_work = CoordView("biofsi::fsi_x", nn);
-    const double nu = settings.mesh_motion.poisson_ratio;
-    PseudoElasticPhysics p;
-    p.lambda = nu / ((1 + nu) * (1 - 2 * nu));
-    p.mu = 1 / (2 * (1 + nu));
-    p.stiffening = settings.mesh_motion.stiffening;
-    m.mesh_op =
-        ElementOperator<PseudoElasticPhysics>(dm.conn, dm.x, dm.element_block, ConstNodalView{}, p);
+    m.mesh_op = ElementOperator<PseudoElasticPhysics>(
+        dm.conn, dm.x, dm.element_block, ConstNodalView{},
+        pseudo_elastic_physics(settings.mesh_motion, mesh, fluid.elements()));
   }
   m.b = Vector("biofsi::fsi_b", 3 * nn);
   m.g_old = Vector("biofsi::fsi_g_old", 3 * nn);

@@ -50,14 +50,39 @@ inline Point smooth_cube_map(const Point& p, double amplitude) {
           z + a * std::sin(pi * z) * std::cos(1.2 * pi * x) * std::cos(0.8 * pi * y + 0.5)};
 }
 
-// The pseudo-material MeshMotion builds from its settings (E = 1): the Lame parameters of a
-// Poisson ratio nu, written out here independently of src/ale.
-inline PseudoElasticPhysics pseudo_material(double poisson_ratio, double stiffening) {
+// The smallest det J at an element centre, where the hex8 map's columns are the mean
+// half-edges along each reference direction (VTK corner order); written independently of
+// src/ale's centre_jacobian.
+inline double smallest_centre_det(const Mesh& mesh) {
+  constexpr int edges[3][4][2] = {{{0, 1}, {3, 2}, {4, 5}, {7, 6}},
+                                  {{0, 3}, {1, 2}, {4, 7}, {5, 6}},
+                                  {{0, 4}, {1, 5}, {2, 6}, {3, 7}}};
+  double smallest = 1e300;
+  for (int e = 0; e < mesh.n_elements(); ++e) {
+    double col[3][3] = {};
+    for (int d = 0; d < 3; ++d)
+      for (const auto& edge : edges[d])
+        for (int k = 0; k < 3; ++k)
+          col[d][k] += (mesh.x[mesh.conn[e][edge[1]]][k] - mesh.x[mesh.conn[e][edge[0]]][k]) / 8;
+    const double det = col[0][0] * (col[1][1] * col[2][2] - col[1][2] * col[2][1]) -
+                       col[0][1] * (col[1][0] * col[2][2] - col[1][2] * col[2][0]) +
+                       col[0][2] * (col[1][0] * col[2][1] - col[1][1] * col[2][0]);
+    smallest = std::min(smallest, det);
+  }
+  return smallest;
+}
+
+// The pseudo-material MeshMotion builds from its settings on `mesh` (E = 1, stiffening scaled to
+// 1 on the smallest element): the Lame parameters of a Poisson ratio nu, written out here
+// independently of src/ale.
+inline PseudoElasticPhysics pseudo_material(double poisson_ratio, double stiffening,
+                                            const Mesh& mesh) {
   const double nu = poisson_ratio;
   PseudoElasticPhysics p;
   p.lambda = nu / ((1 + nu) * (1 - 2 * nu));
   p.mu = 1 / (2 * (1 + nu));
   p.stiffening = stiffening;
+  p.reference_det = smallest_centre_det(mesh);
   return p;
 }
 

@@ -100,7 +100,7 @@ HostVector matrix_free_diagonal(const Mesh& mesh, double stiffening) {
   const DeviceMesh dm = to_device(mesh);
   const ElementGroups groups = make_element_groups(mesh, all_elements(mesh), Scatter::Colored);
   const ElementOperator<PseudoElasticPhysics> op(dm.conn, dm.x, dm.element_block, ConstNodalView{},
-                                                 pseudo_material(poisson_ratio, stiffening));
+                                                 pseudo_material(poisson_ratio, stiffening, mesh));
   Vector zero(std::string("test::zero"), 3 * mesh.n_nodes());
   Vector d(std::string("test::diag"), 3 * mesh.n_nodes());
   op.diagonal(groups, zero, d);
@@ -240,6 +240,22 @@ TEST(PseudoElasticOperator, MatrixFreeDiagonalEqualsAssembledDiagonal) {
     // sign error in the stress or a negative scaling would show here.
     for (double v : d) ASSERT_GT(v, 0.0);
   }
+}
+
+TEST(PseudoElasticOperator, StiffeningIsOneOnTheSmallestElement) {
+  // J_0 only rescales the operator, which the other tests cannot see (both sides use it); what it
+  // must be is the smallest centre det J, computed here from the half-edges.
+  const Mesh mesh = operator_mesh();
+  std::vector<int> all(mesh.n_elements());
+  for (int e = 0; e < mesh.n_elements(); ++e) all[e] = e;
+  const PseudoElasticPhysics p = pseudo_elastic_physics(settings(2.0), mesh, all);
+  const double expected = smallest_centre_det(mesh);
+  std::printf("[ measured ] J_0 = %.6e, from the half-edges %.6e\n", p.reference_det, expected);
+  EXPECT_NEAR(p.reference_det, expected, 1e-13 * expected);  // two summation orders
+  EXPECT_EQ(p.stiffening, 2.0);
+  // The distorted box keeps volume 1 and is graded, so its smallest cell is well below the mean.
+  EXPECT_GT(expected, 0.0);
+  EXPECT_LT(expected, 1.0 / (8.0 * mesh.n_elements()));
 }
 
 TEST(PseudoElasticOperator, AssembledMatrixIsSymmetric) {

@@ -138,8 +138,12 @@ UnsteadyCase fsi2() {
   // The fluid mesh's stiffening: the wake mesh's first cells beside the flag are half as thick
   // as refine 1's, and with 2 one turned inside out at the tip's extreme swing (t = 4.48 s, stop
   // 15). 3 from rest failed on refine 1 (stop 16): the first linear solve, whose structure and
-  // mesh residuals are exactly zero, made no progress in 400 Krylov iterations (24 with 2; not
-  // investigated further), so 3 starts at t = 4.4 s, before the swing reaches the tip's cells.
+  // mesh residuals are exactly zero, made no progress in 400 Krylov iterations (24 with 2), so 3
+  // starts at t = 4.4 s, before the swing reaches the tip's cells. The cause (stop 18): Newton's
+  // first step weighs zero-residual fields alike, and (1/det J)^3 in SI units made the mesh's rows
+  // ~1e12 times the fluid's; with the stiffening scaled to 1 on the smallest element
+  // (pseudo_elastic_physics) 3 starts from rest (refine 1, dt 0.01 and 0.02: 3 Newton, 30 and 19
+  // Krylov). The stages were kept: the end-to-end run of stop 18 used them.
   c.stages = {{0.02, 0.52, 2, 4.4}, {0.02, 0.52, 3, 6.8}, {0.01, 0.5, 3, 9.4}};
   c.kick = 4;
   c.ux = {-1.4580e-2, 1.2440e-2, 3.8};
