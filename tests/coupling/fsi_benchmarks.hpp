@@ -5,6 +5,7 @@
 // reaction; displacements of point A = (0.6, 0.2) at the flag's tip.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -46,18 +47,24 @@ struct TurekHronFsi {
     for (int n : tip) s += d[n][c] / tip.size();
     return s;
   }
-  Point force() const {
-    const Point a = fluid->force("cylinder"), b = fluid->force("fsi");
-    // The nodes both sets share (the flag's root corners) are counted once: remove one copy.
-    Point shared{0, 0, 0};
-    const auto& cyl = mesh.node_sets.at("cylinder");
-    const BoundaryTraction t = fluid->boundary_traction("fsi");
-    for (size_t i = 0; i < t.nodes.size(); ++i)
-      if (std::binary_search(cyl.begin(), cyl.end(), t.nodes[i]))
-        for (int c = 0; c < 3; ++c) shared[c] += t.force[i][c];
-    return {(a[0] + b[0] - shared[0]) / benchmark_thickness,
-            (a[1] + b[1] - shared[1]) / benchmark_thickness, 0.0};
+  // The fluid's force per unit depth on the rigid cylinder and on the flag. The nodes both sets
+  // share (the flag's root corners) count for the cylinder, so the two parts add up to force().
+  struct ForceParts {
+    Point cylinder, flag;
+    Point total() const { return {cylinder[0] + flag[0], cylinder[1] + flag[1], 0.0}; }
+  };
+  ForceParts force_parts() const {
+    const BoundaryTraction cyl = fluid->boundary_traction("cylinder");
+    const BoundaryTraction flag = fluid->boundary_traction("fsi");
+    const auto& cylinder_nodes = mesh.node_sets.at("cylinder");
+    ForceParts p{{0, 0, 0}, {0, 0, 0}};
+    for (int c = 0; c < 2; ++c) p.cylinder[c] = cyl.total[c] / benchmark_thickness;
+    for (size_t i = 0; i < flag.nodes.size(); ++i)
+      if (!std::binary_search(cylinder_nodes.begin(), cylinder_nodes.end(), flag.nodes[i]))
+        for (int c = 0; c < 2; ++c) p.flag[c] += flag.force[i][c] / benchmark_thickness;
+    return p;
   }
+  Point force() const { return force_parts().total(); }
 };
 
 inline std::unique_ptr<TurekHronFsi> make_turek_hron(

@@ -111,5 +111,13 @@ inline void report_against(const char* name, const Oscillation& o, const Referen
       percent_off(o.frequency, r.frequency), o.periods, 100 * o.amplitude_change);
 }
 
+// The same line for a signal the benchmark does not publish (a part of a force).
+inline void report(const char* name, const Oscillation& o) {
+  std::printf(
+      "[ measured ] %s: %.4e +- %.4e [%.4f Hz]; %d periods, amplitude change over the "
+      "last %+.2f%%\n",
+      name, o.mean, o.amplitude, o.frequency, o.periods, 100 * o.amplitude_change);
+}
+
 }  // namespace test
 }  // namespace biofsi
