@@ -24,8 +24,9 @@
 // "194 Hz" because the one-step kink where the stage changes dt, t = 3.7025 s, sets its window's
 // mid-level). So the drag amplitude's excess is the flag's. For comparison the fluid alone on
 // this mesh, CFD3 (tests/fluid/test_fluid_unsteady.cpp), has its lift amplitude 9.6% low.
-// Left to measure: dt 0.00125 from the t = 4.4 s state, and a finer mesh around the flag (its
-// boundary layer is what the forces see and u_y(A) hardly).
+// dt 0.00125 from the t = 4.4 s state (to 4.76 s) left the lift's half-period peaks at 177-183.
+// Left to measure: a finer mesh around the flag (its boundary layer is what the forces see and
+// u_y(A) hardly).
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [turek_hron_wake: a mesh of
 // the build, e.g. turek_hron_r1 or turek_hron_r2, or the path of a .msh file of
 // cases/meshes/turek_hron.geo made with other gmsh parameters; test_fluid_unsteady's CFD3
