@@ -6,7 +6,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -53,10 +55,12 @@ inline std::pair<double, double> refined_extremes(const std::vector<double>& t,
   return {refined(i_min), refined(i_max)};
 }
 
-// Periods are delimited by upward crossings of the window's mid-level, each counted only after
-// the signal has been a quarter of the range below it: step-to-step jitter (Crank-Nicolson's
-// undamped pressure mode shows in the forces) cannot then create extra periods, as it could
-// extra local maxima near a flat peak. Frequency from the last `periods` periods; mean and
+// Periods are delimited by upward crossings of the window's mean, each counted only after the
+// signal has been 0.7 RMS deviations (half the amplitude of a sine) below it: step-to-step jitter
+// (Crank-Nicolson's undamped pressure mode shows in the forces) cannot then create extra
+// periods, as it could extra local maxima near a flat peak. Mean and RMS rather than the
+// window's extremes, because a one-step kink (where a run changes its step) would set those
+// and hide a small oscillation behind it. Frequency from the last `periods` periods; mean and
 // amplitude from the extremes of the last one, each refined by the parabola; amplitude_change
 // compares the last period's amplitude with the one before it.
 inline Oscillation analyse(const std::vector<double>& t, const std::vector<double>& y,
@@ -65,15 +69,17 @@ inline Oscillation analyse(const std::vector<double>& t, const std::vector<doubl
   size_t first = 0;
   while (first < t.size() && t[first] < t_from) ++first;
   if (first + 3 > y.size()) return o;
-  const auto range = std::minmax_element(y.begin() + first, y.end());
-  const double mid = 0.5 * (*range.first + *range.second);
-  const double quarter = 0.25 * (*range.second - *range.first);
-  if (!(quarter > 0)) return o;
+  const double count = static_cast<double>(y.size() - first);
+  const double mid = std::accumulate(y.begin() + first, y.end(), 0.0) / count;
+  double square_sum = 0;
+  for (size_t i = first; i < y.size(); ++i) square_sum += (y[i] - mid) * (y[i] - mid);
+  const double arming_depth = 0.7 * std::sqrt(square_sum / count);
+  if (!(arming_depth > 0)) return o;
   std::vector<double> crossing_time;
   std::vector<size_t> crossing_index;
   bool armed = false;
   for (size_t i = first + 1; i < y.size(); ++i) {
-    if (y[i] < mid - quarter) armed = true;
+    if (y[i] < mid - arming_depth) armed = true;
     if (armed && y[i - 1] < mid && y[i] >= mid) {
       const double s = (mid - y[i - 1]) / (y[i] - y[i - 1]);
       crossing_time.push_back(t[i - 1] + s * (t[i] - t[i - 1]));

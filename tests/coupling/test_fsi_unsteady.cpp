@@ -19,31 +19,31 @@
 // peaks 174-182 over t = 3.77-4.32 s). The former trapezoidal form gave lift +20.5% and drag
 // amplitude +27% (stop 16, dt 0.0025, from the dt 0.005 chain): the time scheme moved the lift
 // by 4 points and the drag amplitude not at all. Of the forces, the flag carries lift +-180.8
-// and drag -16.3 +- 26.5, the cylinder lift +-112.3 and drag 472.9 +- 2.7 (the cylinder's
-// drag oscillation read by hand over the last period: the analysis below reports +-9.2 at
-// "194 Hz" because the one-step kink where the stage changes dt, t = 3.7025 s, sets its window's
-// mid-level). So the drag amplitude's excess is the flag's. For comparison the fluid alone on
-// this mesh, CFD3 (tests/fluid/test_fluid_unsteady.cpp), has its lift amplitude 9.6% low.
-// dt 0.00125 from the t = 4.4 s state (to 4.76 s) left the lift's half-period peaks at 177-183.
-// Left to measure: a finer mesh around the flag (its boundary layer is what the forces see and
-// u_y(A) hardly).
-// Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [turek_hron_wake: a mesh of
-// the build, e.g. turek_hron_r1 or turek_hron_r2, or the path of a .msh file of
-// cases/meshes/turek_hron.geo made with other gmsh parameters; test_fluid_unsteady's CFD3
-// measures a candidate's wake], BIOFSI_FSI_T_END [the last stage's end: the stages are cut
-// there], BIOFSI_FSI_STAGES ["dt,theta,stiffening,t_end;...": replaces the case's stages],
-// BIOFSI_FSI_DT, BIOFSI_FSI_THETA (fluid and structure), BIOFSI_FSI_STIFFENING (the fluid
-// mesh's): any of these three makes the run one stage with their values (the others from the
-// case's last stage), BIOFSI_FSI_STEADY_TAU [0], BIOFSI_FSI_RAMP [0.5], BIOFSI_FSI_KICK [FSI2 4,
-// FSI3 0: the peak of the transverse seeding pulse on the flag, m/s^2], BIOFSI_FSI_SIMPLE [0: the
-// fluid block preconditioned by SIMPLEC; 1: SIMPLE], BIOFSI_FSI_SERIES (a folder: the time series
-// is written there as fsi<k>_series.csv after every step), BIOFSI_FSI_FROM_SERIES (such a file:
-// analyse it instead of running, e.g. a run stopped early; pick the case with --gtest_filter),
-// BIOFSI_FSI_CHECKPOINT (a file: the state is saved there every BIOFSI_FSI_CHECKPOINT_EVERY [10]
-// steps), BIOFSI_FSI_RESTART (such a file: continue from it, in the stage its time falls in, with
-// its series read back from BIOFSI_FSI_SERIES so the analysis covers the whole run; the step may
-// differ from the one that wrote it), BIOFSI_FSI_VERBOSE [0] (1: every step's Newton history,
-// residual norms per field).
+// and drag -16.3 +- 26.5, the cylinder lift +-112.3 and drag 472.9 +- 2.6 at 10.73 Hz (until stop
+// 22 the analysis took its crossing level from the window's extremes, and the one-step kink where
+// the stage changes dt, t = 3.7025 s, hid this small oscillation: "+-9.2 at 194 Hz"). So the drag
+// amplitude's excess is the flag's. For comparison the fluid alone on this mesh, CFD3
+// (tests/fluid/test_fluid_unsteady.cpp), has its lift amplitude 9.6% low. dt 0.00125 from the t
+// = 4.4 s state (to 4.76 s) left the lift's half-period peaks at 177-183. Left to measure: a finer
+// mesh around the flag (its boundary layer is what the forces see and u_y(A) hardly).
+//
+// Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [turek_hron_wake: a mesh of the
+// build, e.g. turek_hron_r1 or turek_hron_r2, or the path of a .msh file of
+// cases/meshes/turek_hron.geo made with other gmsh parameters; test_fluid_unsteady's CFD3 measures
+// a candidate's wake], BIOFSI_FSI_T_END [the last stage's end: the stages are cut there],
+// BIOFSI_FSI_STAGES
+// ["dt,theta,stiffening,t_end;...": replaces the case's stages], BIOFSI_FSI_DT, BIOFSI_FSI_THETA
+// (fluid and structure), BIOFSI_FSI_STIFFENING (the fluid mesh's): any of these three makes the run
+// one stage with their values (the others from the case's last stage), BIOFSI_FSI_STEADY_TAU [0],
+// BIOFSI_FSI_RAMP [0.5], BIOFSI_FSI_KICK [FSI2 4, FSI3 0: the peak of the transverse seeding pulse
+// on the flag, m/s^2], BIOFSI_FSI_SIMPLE [0: the fluid block preconditioned by SIMPLEC; 1: SIMPLE],
+// BIOFSI_FSI_SERIES (a folder: the time series is written there as fsi<k>_series.csv after every
+// step), BIOFSI_FSI_FROM_SERIES (such a file: analyse it instead of running, e.g. a run stopped
+// early; pick the case with --gtest_filter), BIOFSI_FSI_CHECKPOINT (a file: the state is saved
+// there every BIOFSI_FSI_CHECKPOINT_EVERY [10] steps), BIOFSI_FSI_RESTART (such a file: continue
+// from it, in the stage its time falls in, with its series read back from BIOFSI_FSI_SERIES so the
+// analysis covers the whole run; the step may differ from the one that wrote it),
+// BIOFSI_FSI_VERBOSE [0] (1: every step's Newton history, residual norms per field).
 //
 // How the numbers are taken: as the benchmark does, over the last full period of each signal
 // (oscillation.hpp, tested in the default suite).
