@@ -49,6 +49,11 @@ struct TurekHronFsi {
   }
   // The fluid's force per unit depth on the rigid cylinder and on the flag. The nodes both sets
   // share (the flag's root corners) count for the cylinder, so the two parts add up to force().
+  // Only the total is independent of the pressure level (which the do-nothing outflow fixes):
+  // the flag's surface is open at its root, so a constant p0 added to the pressure takes
+  // p0 * 0.02 m (the flag's thickness) from the flag's drag and gives it to the cylinder's. A
+  // drag oscillation that sits on one part may therefore be the pressure level at the body
+  // oscillating; the lift's split has no such term (the flag's two long sides cancel).
   struct ForceParts {
     Point cylinder, flag;
     Point total() const { return {cylinder[0] + flag[0], cylinder[1] + flag[1], 0.0}; }
