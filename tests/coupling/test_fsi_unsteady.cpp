@@ -431,7 +431,7 @@ bool advance(const UnsteadyCase& c, TurekHronFsi& th, double dt, int first, int 
   const bool verbose = env_or("BIOFSI_FSI_VERBOSE", 0) != 0;
   for (int i = first; i <= last; ++i) {
     const auto start = std::chrono::steady_clock::now();
-    const FsiStats before = th.fsi->stats();
+    const FsiStats before = verbose ? th.fsi->stats() : FsiStats{};  // for print_step_cost
     const NewtonResult r =
         th.fsi->step(dt, "FSI" + std::to_string(c.number) + " step " + std::to_string(i));
     const double seconds =

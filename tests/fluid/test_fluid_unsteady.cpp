@@ -171,7 +171,7 @@ ForceSeries run(const SheddingCase& c, double dt, double t_end) {
     r.lift.push_back(c.force_scale * f[1] / benchmark_thickness);
     std::printf("%s t %.4f drag %.4g lift %.4g", c.name, r.t.back(), r.drag.back(), r.lift.back());
     // Each body's part (CFD3: the cylinder and the flag). The sets share the flag's root corners,
-    // so the parts add up to a little more than the total; the drag's split also moves with the
+    // so the parts do not add up exactly to the total; the drag's split also moves with the
     // pressure level (TurekHronFsi::ForceParts, tests/coupling/fsi_benchmarks.hpp).
     if (c.body_sets.size() > 1)
       for (const std::string& set : c.body_sets) {
