@@ -32,6 +32,14 @@
 // thread: 516 s against 248 s), ~10 hours from rest. BIOFSI_FSI_NEWTON_TOL=1e-4 saved 24% of the
 // first 137 steps on the wake mesh (to t = 1.37 s, one thread) and moved u_y(A) by 4e-6 and the
 // lift by 1.3e-4 of their largest values; not yet compared in the periodic state, so 1e-6 stays.
+// Stop 24 (wake mesh, Newton tolerance 1e-4, from the t = 1.8 s state: dt 0.01 to 2.9 s, then
+// 0.0025): not Crank-Nicolson's step-to-step mode (a dt change starts one on the cylinder's drag,
+// +-37 at onset, decaying ~9% a step; the periodic amplitudes move <= 2% when it is averaged
+// out), not the step (the dt 0.01 stage already has lift +18% at u_y(A) +2.4%), not the
+// tolerance (at t = 3.4 s, 0.5 s at dt 0.0025: u_y(A) -1.5%, lift +15.8%, drag amplitude +20.3%,
+// the period before +21% and +30%: the spread of stop 22's run with 1e-6).
+// The flag's lift leads u_y(A) by 153 degrees: inertia-dominated, so a too-stiff flag alone does
+// not predict the excess; FSI3 on turek_hron_flag was started (README, "Known limits").
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [turek_hron_wake: a mesh of the
 // build, e.g. turek_hron_r1 or turek_hron_r2, or the path of a .msh file of
