@@ -28,7 +28,7 @@
 // = 4.4 s state (to 4.76 s) left the lift's half-period peaks at 177-183.
 // Stop 23: BIOFSI_FSI_MESH=turek_hron_flag (the wake mesh with refine 2's flag, whose stiffness
 // error is a fifth of refine 1's in CSM3; CFD3 passes on it, lift -7.4%) is the next FSI3
-// measurement, not yet run: its steps cost 2.1x the wake mesh's (the first 13 from rest, one
+// measurement, started in stop 24: its steps cost 2.1x the wake mesh's (the first 13 from rest, one
 // thread: 516 s against 248 s), ~10 hours from rest. BIOFSI_FSI_NEWTON_TOL=1e-4 saved 24% of the
 // first 137 steps on the wake mesh (to t = 1.37 s, one thread) and moved u_y(A) by 4e-6 and the
 // lift by 1.3e-4 of their largest values; not yet compared in the periodic state, so 1e-6 stays.
