@@ -40,6 +40,15 @@
 // the period before +21% and +30%: the spread of stop 22's run with 1e-6).
 // The flag's lift leads u_y(A) by 153 degrees: inertia-dominated, so a too-stiff flag alone does
 // not predict the excess; FSI3 on turek_hron_flag was started (README, "Known limits").
+// Stop 25: the lift is an interference sum. Fitted over one period at t = 3.2-3.4 s (wake mesh,
+// dt 0.0025) the flag's part is +-183 at 153 degrees from u_y(A), the cylinder's +-111 at 43;
+// 110 degrees apart they sum to +-179, and 125 degrees apart the same parts would give the
+// reference's +-150, so a 15-degree phase error of the shedding against the swing is enough. The
+// turek_hron_flag chain, resumed from t = 1.3 s (dt 0.01, one thread, 35-105 s a step, no cut
+// step), reached t = 2.44 s: at equal swing it carries 5-10% less lift than the wake mesh in the
+// growth and overshoot (u_y(A) +-0.040-0.041: lift +-248 against +-264), not yet the periodic
+// state. Its checkpoint continues with BIOFSI_FSI_STAGES="0.01,0.5,2,2.9;0.0025,0.5,2,3.4", the
+// stages of stop 24's wake-mesh measurement.
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [turek_hron_wake: a mesh of the
 // build, e.g. turek_hron_r1 or turek_hron_r2, or the path of a .msh file of

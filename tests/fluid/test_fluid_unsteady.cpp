@@ -44,6 +44,13 @@
 //   DFG 2D-2 refine 1 c_L +-1.028 (+2.8%), St -2.45%, c_D max 3.2224 (-0.24%), amplitude change
 //   0.01%: passes; CFD3 on the wake mesh to t = 5 s (42 min) lift -22.4 +- 395.7 (-9.6%) at
 //   4.355 Hz (-0.9%), amplitude change -1.3%, drag mean +1.6%: passes, as before.
+//   turek_hron_flag (stop 23; the wake mesh with refine 2's flag): lift -21.4 +- 405.4 (-7.4%)
+//   at 4.349 Hz (-1.1%), drag mean +1.6%: passes. Stop 25, the same with the body's region
+//   doubled (its gmsh arguments plus -setnumber c_box 20 -setnumber c_ring 16: the cylinder's
+//   O-grid and the patches beside it; 10868 nodes per layer; one thread, 58 min): lift -19.8 +-
+//   385.7 (-11.9%) at 4.332 Hz (-1.4%), drag mean 439.1 (-0.1%), amplitude change -1.2%: the
+//   lift amplitude fails. So on meshes of 7-13 thousand nodes per layer the shedding is 7-12%
+//   weak, and refining one region does not move it monotonically toward the reference.
 // Environment: BIOFSI_UNSTEADY_MESH [CFD3 turek_hron_wake, DFG dfg_2d1_r1: a mesh of the build,
 // e.g. turek_hron_r2, or the path of a .msh of the same geometry made with other gmsh parameters],
 // BIOFSI_UNSTEADY_DT [0.01], BIOFSI_UNSTEADY_T_END [CFD3 5, DFG 6], BIOFSI_UNSTEADY_THETA [0.5],
