@@ -44,11 +44,12 @@
 // dt 0.0025) the flag's part is +-183 at 153 degrees from u_y(A), the cylinder's +-111 at 43;
 // 110 degrees apart they sum to +-179, and 125 degrees apart the same parts would give the
 // reference's +-150, so a 15-degree phase error of the shedding against the swing is enough. The
-// turek_hron_flag chain, resumed from t = 1.3 s (dt 0.01, one thread, 35-105 s a step, no cut
-// step), reached t = 2.44 s: at equal swing it carries 5-10% less lift than the wake mesh in the
-// growth and overshoot (u_y(A) +-0.040-0.041: lift +-248 against +-264), not yet the periodic
-// state. Its checkpoint continues with BIOFSI_FSI_STAGES="0.01,0.5,2,2.9;0.0025,0.5,2,3.4", the
-// stages of stop 24's wake-mesh measurement.
+// turek_hron_flag chain, resumed from t = 1.3 s (dt 0.01, one thread, 35-111 s a step, no cut
+// step), reached t = 2.6 s: at equal swing it carries less lift than the wake mesh, 6% at u_y(A)
+// +-0.040 and ~20% in the overshoot (t = 2.55-2.6 s, +-0.042: +-182 and +-150 against +-230 and
+// +-187, the cylinder's part 7-10 degrees earlier); not yet the periodic state. Its checkpoint
+// continues with BIOFSI_FSI_STAGES="0.01,0.5,2,2.9;0.0025,0.5,2,3.4", the stages of stop 24's
+// wake-mesh measurement.
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [turek_hron_wake: a mesh of the
 // build, e.g. turek_hron_r1 or turek_hron_r2, or the path of a .msh file of
