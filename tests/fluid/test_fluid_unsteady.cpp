@@ -51,6 +51,12 @@
 //   385.7 (-11.9%) at 4.332 Hz (-1.4%), drag mean 439.1 (-0.1%), amplitude change -1.2%: the
 //   lift amplitude fails. So on meshes of 7-13 thousand nodes per layer the shedding is 7-12%
 //   weak, and refining one region does not move it monotonically toward the reference.
+//   Stop 26, the step: CFD3 on turek_hron_wake with BIOFSI_UNSTEADY_DT=0.0025 (FSI3's measuring
+//   step; one thread, 90 min beside an FSI3 run) to t = 5 s: lift -23.8 +- 376.7 (-14.0%) at
+//   4.373 Hz (-0.5%), amplitude change -1.2%, drag mean 439.4 (-0.01%); fails on the lift. A
+//   quarter of the step took 4.4 points off the lift amplitude (dt 0.01: -9.6%). The midpoint
+//   rule is second order, so dt 0.0025 leaves ~1/16 of dt 0.01's time error: the shedding on this
+//   mesh is ~14% weak in space, and dt 0.01's pass was partly its time error.
 // Environment: BIOFSI_UNSTEADY_MESH [CFD3 turek_hron_wake, DFG dfg_2d1_r1: a mesh of the build,
 // e.g. turek_hron_r2, or the path of a .msh of the same geometry made with other gmsh parameters],
 // BIOFSI_UNSTEADY_DT [0.01], BIOFSI_UNSTEADY_T_END [CFD3 5, DFG 6], BIOFSI_UNSTEADY_THETA [0.5],
