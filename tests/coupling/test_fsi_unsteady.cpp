@@ -50,12 +50,13 @@
 // +-187, the cylinder's part 7-10 degrees earlier); not yet the periodic state. Its checkpoint
 // continues with BIOFSI_FSI_STAGES="0.01,0.5,2,2.9;0.0025,0.5,2,3.4", the stages of stop 24's
 // wake-mesh measurement.
-// Stop 26: that chain reached t = 3.18 s (of 3.4; 37-85 s a step at dt 0.0025, no cut step). Its
-// analysis (BIOFSI_FSI_FROM_SERIES): u_y(A) -0.5% (amplitude change -3.0%, not yet periodic),
-// u_x(A) amplitude +5.9%, lift +-160.8 (+7.7%, within 15%), drag mean +1.1%, but drag amplitude
-// 27.0 (+19.0%). Against the wake mesh at t = 3.15 s the lift per unit swing is 11% lower (the
-// flag's part 5% smaller, the parts 5 degrees further apart) while the drag's 2f oscillation is
-// the same (+-27, the flag's part +-25): the refined flag fixes the lift, not the drag amplitude.
+// Stop 26: that chain reached t = 3.25 s (of 3.4; 37-85 s a step at dt 0.0025, no cut step). Its
+// analysis (BIOFSI_FSI_FROM_SERIES): u_y(A) +0.7% (amplitude change +1.2%), u_x(A) amplitude
+// +2.3%, lift +-164.4 (+10.1%, within 15%; its lift per unit swing level over the windows ending
+// 3.2-3.25 s), drag mean +0.3%, but drag amplitude 28.9 (+27.8%; its 2f harmonic +-27.3, +20.5%).
+// Against the wake mesh at t = 3.15-3.25 s the lift per unit swing is 11% lower (the flag's part
+// 5% smaller, the parts 5 degrees further apart) while the drag's 2f oscillation is the same
+// (+-27, the flag's part +-25-26): the refined flag fixes the lift, not the drag amplitude.
 // CFD3 on the wake mesh at this test's dt 0.0025 sheds 14% weak (test_fluid_unsteady.cpp).
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [turek_hron_wake: a mesh of the
