@@ -594,9 +594,6 @@ std::vector<double> FluidField::pressure() const {
 
 std::array<double, 4> FluidField::probe(const Point& x) const {
   const auto s = solution_host();
-  // VTK corner signs of the reference cell.
-  constexpr double sx[8] = {-1, 1, 1, -1, -1, 1, 1, -1}, sy[8] = {-1, -1, 1, 1, -1, -1, 1, 1},
-                   sz[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
   for (int e : elements_) {
     const auto& c = mesh_.conn[e];
     Point lo = mesh_.x[c[0]], hi = lo;
@@ -611,36 +608,13 @@ std::array<double, 4> FluidField::probe(const Point& x) const {
       inside = inside && x[d] >= lo[d] - tol && x[d] <= hi[d] + tol;
     }
     if (!inside) continue;
-    double xi[3] = {0, 0, 0};
-    double n[8];
-    for (int it = 0; it < 30; ++it) {
-      double f[3] = {-x[0], -x[1], -x[2]}, j[3][3] = {};
-      for (int a = 0; a < 8; ++a) {
-        const double bx = 0.5 * (1 + sx[a] * xi[0]), by = 0.5 * (1 + sy[a] * xi[1]),
-                     bz = 0.5 * (1 + sz[a] * xi[2]);
-        const double g[3] = {0.5 * sx[a] * by * bz, bx * 0.5 * sy[a] * bz, bx * by * 0.5 * sz[a]};
-        for (int d = 0; d < 3; ++d) {
-          f[d] += bx * by * bz * mesh_.x[c[a]][d];
-          for (int k = 0; k < 3; ++k) j[d][k] += g[k] * mesh_.x[c[a]][d];
-        }
-      }
-      double inv[3][3];
-      invert_jacobian(j, inv);
-      double step = 0;
-      for (int k = 0; k < 3; ++k) {
-        const double dk = inv[k][0] * f[0] + inv[k][1] * f[1] + inv[k][2] * f[2];
-        xi[k] -= dk;
-        step = std::max(step, std::abs(dk));
-      }
-      if (step < 1e-14) break;
-    }
+    const std::array<double, 3> xi = hex8_reference_coordinates(mesh_, e, x);
     if (std::abs(xi[0]) > 1 + 1e-8 || std::abs(xi[1]) > 1 + 1e-8 || std::abs(xi[2]) > 1 + 1e-8)
       continue;
+    const std::array<double, 8> n = hex8_shape_values(xi);
     std::array<double, 4> out{0, 0, 0, 0};
-    for (int a = 0; a < 8; ++a) {
-      n[a] = 0.125 * (1 + sx[a] * xi[0]) * (1 + sy[a] * xi[1]) * (1 + sz[a] * xi[2]);
+    for (int a = 0; a < 8; ++a)
       for (int k = 0; k < 4; ++k) out[k] += n[a] * s[4 * c[a] + k];
-    }
     return out;
   }
   std::ostringstream m;

@@ -6,6 +6,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "kernels/core/hex8.hpp"
+
 namespace biofsi {
 
 int Mesh::block_index(const std::string& name) const {
@@ -331,6 +333,49 @@ std::vector<Point> nodal_normals(const Mesh& mesh, const std::string& set) {
     if (len > 0)
       for (auto& c : v) c /= len;
   }
+  return n;
+}
+
+namespace {
+// VTK corner signs of the reference cell.
+constexpr double corner_x[8] = {-1, 1, 1, -1, -1, 1, 1, -1};
+constexpr double corner_y[8] = {-1, -1, 1, 1, -1, -1, 1, 1};
+constexpr double corner_z[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
+}  // namespace
+
+std::array<double, 3> hex8_reference_coordinates(const Mesh& mesh, int e, const Point& x) {
+  const auto& c = mesh.conn[e];
+  std::array<double, 3> xi{0, 0, 0};
+  for (int it = 0; it < 30; ++it) {
+    double f[3] = {-x[0], -x[1], -x[2]}, jac[3][3] = {};
+    for (int a = 0; a < 8; ++a) {
+      const double bx = 0.5 * (1 + corner_x[a] * xi[0]), by = 0.5 * (1 + corner_y[a] * xi[1]),
+                   bz = 0.5 * (1 + corner_z[a] * xi[2]);
+      const double g[3] = {0.5 * corner_x[a] * by * bz, bx * 0.5 * corner_y[a] * bz,
+                           bx * by * 0.5 * corner_z[a]};
+      for (int d = 0; d < 3; ++d) {
+        f[d] += bx * by * bz * mesh.x[c[a]][d];
+        for (int k = 0; k < 3; ++k) jac[d][k] += g[k] * mesh.x[c[a]][d];
+      }
+    }
+    double inv[3][3];
+    invert_jacobian(jac, inv);
+    double step = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double dk = inv[k][0] * f[0] + inv[k][1] * f[1] + inv[k][2] * f[2];
+      xi[k] = std::max(-3.0, std::min(3.0, xi[k] - dk));
+      step = std::max(step, std::abs(dk));
+    }
+    if (step < 1e-14) break;
+  }
+  return xi;
+}
+
+std::array<double, 8> hex8_shape_values(const std::array<double, 3>& xi) {
+  std::array<double, 8> n{};
+  for (int a = 0; a < 8; ++a)
+    n[a] =
+        0.125 * (1 + corner_x[a] * xi[0]) * (1 + corner_y[a] * xi[1]) * (1 + corner_z[a] * xi[2]);
   return n;
 }
 

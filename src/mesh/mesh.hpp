@@ -69,6 +69,13 @@ struct BoxSpec {
 
 Mesh make_box_mesh(const BoxSpec& spec);
 
+// The reference coordinates of point x in hex8 element e: Newton on the trilinear map, each
+// coordinate kept within [-3, 3] so that a point far outside cannot send it off. Inside the
+// element means every |xi| <= 1; the caller decides how much outside it accepts.
+std::array<double, 3> hex8_reference_coordinates(const Mesh& mesh, int e, const Point& x);
+// The trilinear shape functions (VTK corner order) at reference point xi.
+std::array<double, 8> hex8_shape_values(const std::array<double, 3>& xi);
+
 // Moves every node by a smooth map (for distorted-mesh verification).
 template <class Map>
 void distort(Mesh& mesh, const Map& map) {

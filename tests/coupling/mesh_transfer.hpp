@@ -12,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "kernels/core/hex8.hpp"
 #include "mesh/mesh.hpp"
 
 namespace biofsi {
@@ -73,10 +72,6 @@ class NodalInterpolator {
   }
 
  private:
-  static constexpr double sx[8] = {-1, 1, 1, -1, -1, 1, 1, -1};
-  static constexpr double sy[8] = {-1, -1, 1, 1, -1, -1, 1, 1};
-  static constexpr double sz[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
-
   static double scaled(double v, double s) { return v * s; }
   static Point scaled(const Point& v, double s) { return {v[0] * s, v[1] * s, v[2] * s}; }
   static void add_scaled(double& out, double v, double s) { out += v * s; }
@@ -84,32 +79,9 @@ class NodalInterpolator {
     for (int d = 0; d < 3; ++d) out[d] += v[d] * s;
   }
 
-  // Newton on the trilinear map; the shape functions at the clamped reference point.
+  // The shape functions at the reference point clamped to the element.
   NodalWeights weights_in(int e, const Point& x) const {
-    const auto& c = mesh_.conn[e];
-    double xi[3] = {0, 0, 0};
-    for (int it = 0; it < 30; ++it) {
-      double f[3] = {-x[0], -x[1], -x[2]}, jac[3][3] = {};
-      for (int a = 0; a < 8; ++a) {
-        const double bx = 0.5 * (1 + sx[a] * xi[0]), by = 0.5 * (1 + sy[a] * xi[1]),
-                     bz = 0.5 * (1 + sz[a] * xi[2]);
-        const double g[3] = {0.5 * sx[a] * by * bz, bx * 0.5 * sy[a] * bz, bx * by * 0.5 * sz[a]};
-        for (int d = 0; d < 3; ++d) {
-          f[d] += bx * by * bz * mesh_.x[c[a]][d];
-          for (int k = 0; k < 3; ++k) jac[d][k] += g[k] * mesh_.x[c[a]][d];
-        }
-      }
-      double inv[3][3];
-      invert_jacobian(jac, inv);
-      double step = 0;
-      for (int k = 0; k < 3; ++k) {
-        const double dk = inv[k][0] * f[0] + inv[k][1] * f[1] + inv[k][2] * f[2];
-        // A point far outside may send Newton far off; the element is not the one then.
-        xi[k] = std::max(-3.0, std::min(3.0, xi[k] - dk));
-        step = std::max(step, std::abs(dk));
-      }
-      if (step < 1e-14) break;
-    }
+    std::array<double, 3> xi = hex8_reference_coordinates(mesh_, e, x);
     NodalWeights w;
     w.element = e;
     for (int k = 0; k < 3; ++k) {
@@ -117,8 +89,7 @@ class NodalInterpolator {
       xi[k] = std::max(-1.0, std::min(1.0, xi[k]));
     }
     w.outside = std::max(w.outside, 0.0);
-    for (int a = 0; a < 8; ++a)
-      w.n[a] = 0.125 * (1 + sx[a] * xi[0]) * (1 + sy[a] * xi[1]) * (1 + sz[a] * xi[2]);
+    w.n = hex8_shape_values(xi);
     return w;
   }
 
