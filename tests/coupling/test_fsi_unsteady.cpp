@@ -71,6 +71,11 @@
 // for a refinement study from the periodic state, and the series records the flag's momentum,
 // which splits the flag's forces into its inertia and the force through its root (reported after
 // the parts).
+// Stop 28: that t = 3.4 s state on the 1.5x refinement of turek_hron_flag (43086 nodes; start
+// stage theta 0.55 to 3.45 s against the transfer's undamped modes, then 0.5) to t ~ 3.59 s:
+// u_y(A) peaks +0.0360 / -0.0338, lift minimum -155.0, drag 426.6-490.3 and its 10.8 Hz harmonic
+// 26.3-29.4 (flag mesh at the same phase: +-0.0346, -156.7, 429-486, 25.0-26.3). The drag
+// amplitude's excess does not fall with the fluid mesh (README, "Known limits").
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [FSI2 turek_hron_wake, FSI3
 // turek_hron_flag: a mesh of the
