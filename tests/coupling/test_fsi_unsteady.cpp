@@ -9,6 +9,15 @@
 // theta 0.52, which damps the swing but survives its growth), then the periodic state measured
 // with Crank-Nicolson and a smaller step, each stage continuing from the state the last reached.
 //
+// Status (stop 29): both pass. FSI3 is now checked against the benchmark authors' finest row
+// (Featflow level 4, dt 0.00025 s; fsi3() gives the source and the checks on it) instead of the
+// 2006 proposal's summary row, whose drag amplitude, 22.66, is 18% below that row's 27.74. The
+// test's stages from rest on turek_hron_flag to t = 3.4 s (stops 24-27, series analysed with
+// BIOFSI_FSI_FROM_SERIES): u_y(A) amplitude -1.1% at -2.3% frequency, u_x(A) mean -0.7% and
+// amplitude -3.6%, drag 460.2 +- 26.9 (mean -0.06%, amplitude -3.1%), lift +-159.8 (+3.8%), all
+// frequencies within 2.3%; against the 2006 row the drag amplitude is +18.6% and the lift +6.7%
+// (reported too). What stops 22-28 below chased as a drag excess was the reference's.
+//
 // Status (stop 22). FSI2 with the fluid's midpoint form (second order since stop 17) passes with
 // room, run with the default stages from rest to t = 6.6 s (stops 20-21, no cut step): u_y(A)
 // -3.4%, lift -6.2%, drag amplitude -6.6%, the rest within 5.3% (fsi2() lists everything).
@@ -76,6 +85,8 @@
 // u_y(A) peaks +0.0360 / -0.0338, lift minimum -155.0, drag 426.6-490.3 and its 10.8 Hz harmonic
 // 26.3-29.4 (flag mesh at the same phase: +-0.0346, -156.7, 429-486, 25.0-26.3). The drag
 // amplitude's excess does not fall with the fluid mesh (README, "Known limits").
+// Stop 29: the excess is the 2006 reference's (status above); the refined run's drag harmonic,
+// 26.3-29.4, brackets the finer reference's 27.74.
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [FSI2 turek_hron_wake, FSI3
 // turek_hron_flag: a mesh of the
@@ -185,8 +196,10 @@ struct UnsteadyCase {
   std::string mesh = "turek_hron_wake";
   // Each field's Newton tolerance relative to its largest residual in the step.
   double newton_tol = 1e-6;
-  // Turek & Hron (2006), Tables 12 and 13 ("FSI2", "FSI3"), finest level.
+  // The reference the test checks (each case says which), and Turek & Hron (2006)'s summary
+  // row where that is not the checked one: reported beside it (frequency 0: none).
   Reference ux, uy, drag, lift;
+  Reference ux_2006{}, uy_2006{}, drag_2006{}, lift_2006{};
 };
 
 UnsteadyCase fsi2() {
@@ -235,6 +248,8 @@ UnsteadyCase fsi2() {
   // +-244.0 / +-61.4, drag 57.6 +- 66.2 / 148.4 +- 3.7.
   c.stages = {{0.02, 0.52, 3, 4.4}, {0.01, 0.5, 3, 6.6}};
   c.kick = 4;
+  // Checked against Turek & Hron (2006)'s FSI2 summary row (as nutils' examples/turek.py also
+  // quotes it); unlike FSI3's, no finer row of the authors' is at hand here.
   c.ux = {-1.4580e-2, 1.2440e-2, 3.8};
   c.uy = {1.2300e-3, 8.0600e-2, 2.0};
   c.drag = {2.0883e2, 7.3750e1, 3.8};
@@ -260,10 +275,26 @@ UnsteadyCase fsi3() {
   // amplitudes of the two differ by less than either's spread from period to period (stop 24);
   // it saves a quarter of the time.
   c.newton_tol = 1e-4;
-  c.ux = {-2.6900e-3, 2.5300e-3, 10.9};
-  c.uy = {1.4800e-3, 3.4380e-2, 5.3};
-  c.drag = {4.5700e2, 2.2660e1, 10.9};
-  c.lift = {2.2000e0, 1.4936e2, 5.3};
+  // Checked against the benchmark authors' finest FSI3 result: Featflow, level 4+0, dt = 0.00025 s,
+  // the row of the reference time history published with the benchmark (Featflow FSI benchmark
+  // reference page, TU Dortmund; Turek, Hron, Madlik, Razzaq, Wobker & Acker 2010, Fluid
+  // Structure Interaction II, LNCSE 73). The 2006 proposal's summary row, which this test checked
+  // until stop 29 (there with lift 149.36 and drag mean 457.0, where the row as quoted elsewhere,
+  // e.g. nutils' examples/turek.py and solids4foam, reads 149.78 and 457.3), differs
+  // from it most in the drag amplitude, 22.66 against 27.74 (-18%): the +18.6% that the flag
+  // mesh's run "failed" by (stops 22-28) is that difference. Checks on the finer row: the
+  // published history itself (t = 5.0455-5.228 s, one swing, read from solids4foam's copy,
+  // tutorials/fluidSolidInteraction/HronTurekFsi3/verification/reference) gives drag 460.1 +-
+  // 28.3, u_y 1.57e-3 +- 3.481e-2, u_x -2.87e-3 +- 2.72e-3; solids4foam's own FSI3 study
+  // (finite volumes, partitioned, 2x mesh) measured drag 459.3 +- 28.06 against it.
+  c.ux = {-2.8800e-3, 2.7200e-3, 10.93};
+  c.uy = {1.4700e-3, 3.4990e-2, 5.46};
+  c.drag = {4.6050e2, 2.7740e1, 10.93};
+  c.lift = {2.5000e0, 1.5391e2, 5.46};
+  c.ux_2006 = {-2.6900e-3, 2.5300e-3, 10.9};
+  c.uy_2006 = {1.4800e-3, 3.4380e-2, 5.3};
+  c.drag_2006 = {4.5730e2, 2.2660e1, 10.9};
+  c.lift_2006 = {2.2200e0, 1.4978e2, 5.3};
   return c;
 }
 
@@ -770,6 +801,12 @@ void check(const UnsteadyCase& c) {
   report_against("u_y(A)", uy, c.uy);
   report_against("drag", drag, c.drag);
   report_against("lift", lift, c.lift);
+  if (c.uy_2006.frequency > 0) {
+    report_against("u_x(A), against the 2006 summary", ux, c.ux_2006);
+    report_against("u_y(A), against the 2006 summary", uy, c.uy_2006);
+    report_against("drag, against the 2006 summary", drag, c.drag_2006);
+    report_against("lift, against the 2006 summary", lift, c.lift_2006);
+  }
   // Which body carries the forces' error: the flag's part is tied to the flag's own motion
   // (its inertia less its root's shear force), the cylinder's is the wake's.
   auto finite = [](const std::vector<double>& v) {
