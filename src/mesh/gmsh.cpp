@@ -206,20 +206,11 @@ void skip_section(MshReader& r, const std::string& name) {
   r.fail("section $" + name + " is not closed");
 }
 
-double signed_volume_at_centre(const Mesh& m, const std::array<int, 8>& c) {
-  // d x / d xi at the centre from the trilinear map in VTK order.
-  const double sx[8] = {-1, 1, 1, -1, -1, 1, 1, -1}, sy[8] = {-1, -1, 1, 1, -1, -1, 1, 1},
-               sz[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
-  double j[3][3] = {};
-  for (int a = 0; a < 8; ++a)
-    for (int d = 0; d < 3; ++d) {
-      j[d][0] += sx[a] * m.x[c[a]][d];
-      j[d][1] += sy[a] * m.x[c[a]][d];
-      j[d][2] += sz[a] * m.x[c[a]][d];
-    }
-  return j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) -
-         j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0]) +
-         j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+// Only its sign is read: negative where the corners, taken in VTK order, make a left-handed cell.
+double jacobian_determinant_at_centre(const Mesh& m, const std::array<int, 8>& c) {
+  double jac[3][3], unused_inverse[3][3];
+  hex8_jacobian(m, c, {0, 0, 0}, jac);
+  return invert_jacobian(jac, unused_inverse);
 }
 
 using FaceKey = std::array<int, 4>;
@@ -384,7 +375,7 @@ Mesh build_mesh(const std::string& path, const RawMesh& raw, double thickness) {
   for (size_t e = 0; e < cells.hexes.size(); ++e) {
     auto c = cells.hexes[e];
     // Gmsh's hexahedron numbering is VTK's; only the handedness may differ.
-    if (signed_volume_at_centre(m, c) < 0) {
+    if (jacobian_determinant_at_centre(m, c) < 0) {
       std::swap(c[1], c[3]);
       std::swap(c[5], c[7]);
     }

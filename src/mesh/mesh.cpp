@@ -343,22 +343,37 @@ constexpr double corner_y[8] = {-1, -1, 1, 1, -1, -1, 1, 1};
 constexpr double corner_z[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
 }  // namespace
 
+std::array<double, 8> hex8_shape_values(const std::array<double, 3>& xi) {
+  std::array<double, 8> n{};
+  for (int a = 0; a < 8; ++a)
+    n[a] =
+        0.125 * (1 + corner_x[a] * xi[0]) * (1 + corner_y[a] * xi[1]) * (1 + corner_z[a] * xi[2]);
+  return n;
+}
+
+void hex8_jacobian(const Mesh& mesh, const std::array<int, 8>& corners,
+                   const std::array<double, 3>& xi, double jac[3][3]) {
+  for (int d = 0; d < 3; ++d)
+    for (int k = 0; k < 3; ++k) jac[d][k] = 0;
+  for (int a = 0; a < 8; ++a) {
+    const double bx = 0.5 * (1 + corner_x[a] * xi[0]), by = 0.5 * (1 + corner_y[a] * xi[1]),
+                 bz = 0.5 * (1 + corner_z[a] * xi[2]);
+    const double g[3] = {0.5 * corner_x[a] * by * bz, bx * 0.5 * corner_y[a] * bz,
+                         bx * by * 0.5 * corner_z[a]};
+    for (int d = 0; d < 3; ++d)
+      for (int k = 0; k < 3; ++k) jac[d][k] += g[k] * mesh.x[corners[a]][d];
+  }
+}
+
 std::array<double, 3> hex8_reference_coordinates(const Mesh& mesh, int e, const Point& x) {
   const auto& c = mesh.conn[e];
   std::array<double, 3> xi{0, 0, 0};
   for (int it = 0; it < 30; ++it) {
-    double f[3] = {-x[0], -x[1], -x[2]}, jac[3][3] = {};
-    for (int a = 0; a < 8; ++a) {
-      const double bx = 0.5 * (1 + corner_x[a] * xi[0]), by = 0.5 * (1 + corner_y[a] * xi[1]),
-                   bz = 0.5 * (1 + corner_z[a] * xi[2]);
-      const double g[3] = {0.5 * corner_x[a] * by * bz, bx * 0.5 * corner_y[a] * bz,
-                           bx * by * 0.5 * corner_z[a]};
-      for (int d = 0; d < 3; ++d) {
-        f[d] += bx * by * bz * mesh.x[c[a]][d];
-        for (int k = 0; k < 3; ++k) jac[d][k] += g[k] * mesh.x[c[a]][d];
-      }
-    }
-    double inv[3][3];
+    const std::array<double, 8> n = hex8_shape_values(xi);
+    double f[3] = {-x[0], -x[1], -x[2]}, jac[3][3], inv[3][3];
+    for (int a = 0; a < 8; ++a)
+      for (int d = 0; d < 3; ++d) f[d] += n[a] * mesh.x[c[a]][d];
+    hex8_jacobian(mesh, c, xi, jac);
     invert_jacobian(jac, inv);
     double step = 0;
     for (int k = 0; k < 3; ++k) {
@@ -369,14 +384,6 @@ std::array<double, 3> hex8_reference_coordinates(const Mesh& mesh, int e, const 
     if (step < 1e-14) break;
   }
   return xi;
-}
-
-std::array<double, 8> hex8_shape_values(const std::array<double, 3>& xi) {
-  std::array<double, 8> n{};
-  for (int a = 0; a < 8; ++a)
-    n[a] =
-        0.125 * (1 + corner_x[a] * xi[0]) * (1 + corner_y[a] * xi[1]) * (1 + corner_z[a] * xi[2]);
-  return n;
 }
 
 }  // namespace biofsi

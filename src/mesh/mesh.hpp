@@ -75,6 +75,10 @@ Mesh make_box_mesh(const BoxSpec& spec);
 std::array<double, 3> hex8_reference_coordinates(const Mesh& mesh, int e, const Point& x);
 // The trilinear shape functions (VTK corner order) at reference point xi.
 std::array<double, 8> hex8_shape_values(const std::array<double, 3>& xi);
+// jac[c][d] = dx_c/dxi_d of the trilinear map through these corner nodes (VTK order) at xi; the
+// corners need not be an element of the mesh yet (the Gmsh reader orients cells with it).
+void hex8_jacobian(const Mesh& mesh, const std::array<int, 8>& corners,
+                   const std::array<double, 3>& xi, double jac[3][3]);
 
 // Moves every node by a smooth map (for distorted-mesh verification).
 template <class Map>

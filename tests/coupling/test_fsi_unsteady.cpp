@@ -153,6 +153,7 @@
 #include "coupling/mesh_transfer.hpp"
 #include "coupling/oscillation.hpp"
 #include "environment.hpp"
+#include "kernels/core/hex8.hpp"
 
 using namespace biofsi;
 using namespace biofsi::test;
@@ -601,26 +602,19 @@ void print_step_cost(const FsiStats& before, const FsiStats& after) {
 // structure's momentum exactly, since the consistent mass's rows sum to it.
 std::vector<double> solid_nodal_mass(const Mesh& mesh, double density) {
   std::vector<double> m(mesh.n_nodes(), 0.0);
-  constexpr double sx[8] = {-1, 1, 1, -1, -1, 1, 1, -1}, sy[8] = {-1, -1, 1, 1, -1, -1, 1, 1},
-                   sz[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
-  const double g = 1 / std::sqrt(3.0);
   for (int e : mesh.elements_of_block(mesh.block_index("solid"))) {
     const auto& c = mesh.conn[e];
-    for (int q = 0; q < 8; ++q) {
-      const double xi[3] = {sx[q] * g, sy[q] * g, sz[q] * g};
-      double jac[3][3] = {}, n[8];
-      for (int a = 0; a < 8; ++a) {
-        const double bx = 0.5 * (1 + sx[a] * xi[0]), by = 0.5 * (1 + sy[a] * xi[1]),
-                     bz = 0.5 * (1 + sz[a] * xi[2]);
-        n[a] = bx * by * bz;
-        const double d[3] = {0.5 * sx[a] * by * bz, bx * 0.5 * sy[a] * bz, bx * by * 0.5 * sz[a]};
-        for (int i = 0; i < 3; ++i)
-          for (int k = 0; k < 3; ++k) jac[i][k] += d[k] * mesh.x[c[a]][i];
+    Real xe[Hex8::n_nodes][3];
+    for (int l = 0; l < Hex8::n_nodes; ++l)
+      for (int d = 0; d < 3; ++d) xe[l][d] = mesh.x[c[vtk_of_lex(l)]][d];
+    ElementGeometry<Hex8> geometry;
+    geometry.compute(xe);
+    for (int l = 0; l < Hex8::n_nodes; ++l)
+      for (int q = 0; q < Hex8::n_qp; ++q) {
+        Real n, unused_gradient[3];
+        basis_at_point<Hex8>(l, q, n, unused_gradient);
+        m[c[vtk_of_lex(l)]] += density * n * geometry.wdet[q];
       }
-      double inv[3][3];
-      const double det = invert_jacobian(jac, inv);
-      for (int a = 0; a < 8; ++a) m[c[a]] += density * n[a] * det;
-    }
   }
   return m;
 }
