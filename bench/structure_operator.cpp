@@ -17,65 +17,14 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_support.hpp"
 #include "kernels/core/csr.hpp"
 #include "structure/structure.hpp"
 
 namespace biofsi {
 namespace {
 
-void check(HYPRE_Int err, const char* what) {
-  if (err == 0) return;
-  HYPRE_ClearAllErrors();
-  throw std::runtime_error(std::string("hypre: ") + what + " failed");
-}
-
-// The assembled matrix as hypre holds it (single rank).
-struct HypreCsr {
-  HYPRE_IJMatrix ij = nullptr;
-  HYPRE_IJVector ij_x = nullptr, ij_y = nullptr;
-  HYPRE_ParCSRMatrix a = nullptr;
-  HYPRE_ParVector x = nullptr, y = nullptr;
-
-  explicit HypreCsr(const CsrMatrix& m) {
-    const int n = m.n_rows;
-    auto rp = Kokkos::create_mirror_view_and_copy(HostSpace(), m.row_ptr);
-    auto col = Kokkos::create_mirror_view_and_copy(HostSpace(), m.col);
-    auto val = Kokkos::create_mirror_view_and_copy(HostSpace(), m.val);
-    std::vector<HYPRE_Int> n_cols(n);
-    std::vector<HYPRE_BigInt> rows(n), cols(col.data(), col.data() + col.extent(0));
-    for (int r = 0; r < n; ++r) rows[r] = r, n_cols[r] = rp(r + 1) - rp(r);
-    check(HYPRE_IJMatrixCreate(MPI_COMM_WORLD, 0, n - 1, 0, n - 1, &ij), "IJMatrixCreate");
-    check(HYPRE_IJMatrixSetObjectType(ij, HYPRE_PARCSR), "IJMatrixSetObjectType");
-    check(HYPRE_IJMatrixSetDiagOffdSizes(ij, n_cols.data(), std::vector<HYPRE_Int>(n, 0).data()),
-          "IJMatrixSetDiagOffdSizes");
-    check(HYPRE_IJMatrixInitialize(ij), "IJMatrixInitialize");
-    check(HYPRE_IJMatrixSetValues(ij, n, n_cols.data(), rows.data(), cols.data(), val.data()),
-          "IJMatrixSetValues");
-    check(HYPRE_IJMatrixAssemble(ij), "IJMatrixAssemble");
-    void* object = nullptr;
-    check(HYPRE_IJMatrixGetObject(ij, &object), "IJMatrixGetObject");
-    a = static_cast<HYPRE_ParCSRMatrix>(object);
-    for (auto* v : {&ij_x, &ij_y}) {
-      check(HYPRE_IJVectorCreate(MPI_COMM_WORLD, 0, n - 1, v), "IJVectorCreate");
-      check(HYPRE_IJVectorSetObjectType(*v, HYPRE_PARCSR), "IJVectorSetObjectType");
-      check(HYPRE_IJVectorInitialize(*v), "IJVectorInitialize");
-    }
-    std::vector<double> ones(n, 1.0);
-    check(HYPRE_IJVectorSetValues(ij_x, n, rows.data(), ones.data()), "IJVectorSetValues");
-    for (auto v : {ij_x, ij_y}) check(HYPRE_IJVectorAssemble(v), "IJVectorAssemble");
-    check(HYPRE_IJVectorGetObject(ij_x, &object), "IJVectorGetObject");
-    x = static_cast<HYPRE_ParVector>(object);
-    check(HYPRE_IJVectorGetObject(ij_y, &object), "IJVectorGetObject");
-    y = static_cast<HYPRE_ParVector>(object);
-  }
-  ~HypreCsr() {
-    HYPRE_IJMatrixDestroy(ij);
-    HYPRE_IJVectorDestroy(ij_x);
-    HYPRE_IJVectorDestroy(ij_y);
-  }
-  HypreCsr(const HypreCsr&) = delete;
-  HypreCsr& operator=(const HypreCsr&) = delete;
-};
+using bench::HypreCsr;
 
 struct Problem {
   int n = 0, n_dofs = 0;

@@ -19,6 +19,7 @@ namespace biofsi {
 
 struct PseudoElasticPhysics {
   static constexpr int n_components = 3, n_aux = 0;
+  static constexpr bool tangent_symmetric = true, tangent_couples_values_and_gradients = false;
   Real lambda = 0.5, mu = 1.0;  // Lame parameters (MeshMotion sets them from E = 1 and nu)
   Real stiffening = 0.0;        // chi >= 0
   Real reference_det = 1.0;     // J_0 > 0: the det J at which the stiffness is E

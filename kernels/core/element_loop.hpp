@@ -296,21 +296,19 @@ class ElementOperator {
     run<detail::AssembleTag>("biofsi::assemble", set, u, u, Vector{}, a);
   }
 
+  // The element loop bound to this operator's mesh and physics (for drivers built on top of it,
+  // e.g. the stored tangent's linearisation).
+  detail::ElementLoop<Physics, Basis> element_loop(ConstVector u, ConstVector du, Vector out,
+                                                   const CsrMatrix& a = {},
+                                                   bool atomic = true) const {
+    return {ConstIndexView{}, conn_, coords_, block_, aux_, physics_, u, du, out, a, atomic};
+  }
+
  private:
   template <class Tag>
   void run(const char* label, const ElementGroups& set, ConstVector u, ConstVector du, Vector out,
            const CsrMatrix& a) const {
-    detail::ElementLoop<Physics, Basis> loop{ConstIndexView{},
-                                             conn_,
-                                             coords_,
-                                             block_,
-                                             aux_,
-                                             physics_,
-                                             u,
-                                             du,
-                                             out,
-                                             a,
-                                             set.scatter == Scatter::Atomic};
+    auto loop = element_loop(u, du, out, a, set.scatter == Scatter::Atomic);
     for (const auto& group : set.groups) {
       loop.elements = group;
       Kokkos::parallel_for(

@@ -47,15 +47,15 @@ struct BasisMatrix {
 
 // out = M contracted along dimension Dir of a tensor stored as in[i0 + N0*(i1 + N1*i2)];
 // dimension Dir becomes NO long.
-template <int Dir, int N0, int N1, int N2, int NO, class Matrix>
-KOKKOS_INLINE_FUNCTION void contract(const Matrix& m, const Real* in, Real* out) {
+template <int Dir, int N0, int N1, int N2, int NO, class Matrix, class T>
+KOKKOS_INLINE_FUNCTION void contract(const Matrix& m, const T* in, T* out) {
   constexpr int O0 = Dir == 0 ? NO : N0, O1 = Dir == 1 ? NO : N1, O2 = Dir == 2 ? NO : N2;
   constexpr int NI = Dir == 0 ? N0 : (Dir == 1 ? N1 : N2);
   for (int o2 = 0; o2 < O2; ++o2)
     for (int o1 = 0; o1 < O1; ++o1)
       for (int o0 = 0; o0 < O0; ++o0) {
         const int o = Dir == 0 ? o0 : (Dir == 1 ? o1 : o2);
-        Real s = 0;
+        T s = 0;
         for (int i = 0; i < NI; ++i) {
           const int i0 = Dir == 0 ? i : o0, i1 = Dir == 1 ? i : o1, i2 = Dir == 2 ? i : o2;
           s += m(o, i) * in[i0 + N0 * (i1 + N1 * i2)];
@@ -65,19 +65,20 @@ KOKKOS_INLINE_FUNCTION void contract(const Matrix& m, const Real* in, Real* out)
 }
 
 // Values and reference gradients at the Q^3 points of nodal values u[P^3] (three 1-D passes).
-template <class Basis>
-KOKKOS_INLINE_FUNCTION void interpolate_with_gradient(const Real* u, Real* val, Real (*grad)[3]) {
+// T is Real, or a SIMD pack holding one element per lane.
+template <class Basis, class T>
+KOKKOS_INLINE_FUNCTION void interpolate_with_gradient(const T* u, T* val, T (*grad)[3]) {
   constexpr int P = Basis::P, Q = Basis::Q;
   const BasisMatrix<Basis, false, false> b;
   const BasisMatrix<Basis, true, false> d;
-  Real uB[Q * P * P], uD[Q * P * P];
+  T uB[Q * P * P], uD[Q * P * P];
   contract<0, P, P, P, Q>(b, u, uB);
   contract<0, P, P, P, Q>(d, u, uD);
-  Real uBB[Q * Q * P], uDB[Q * Q * P], uBD[Q * Q * P];
+  T uBB[Q * Q * P], uDB[Q * Q * P], uBD[Q * Q * P];
   contract<1, Q, P, P, Q>(b, uB, uBB);
   contract<1, Q, P, P, Q>(b, uD, uDB);
   contract<1, Q, P, P, Q>(d, uB, uBD);
-  Real gx[Q * Q * Q], gy[Q * Q * Q], gz[Q * Q * Q];
+  T gx[Q * Q * Q], gy[Q * Q * Q], gz[Q * Q * Q];
   contract<2, Q, Q, P, Q>(b, uBB, val);
   contract<2, Q, Q, P, Q>(b, uDB, gx);
   contract<2, Q, Q, P, Q>(b, uBD, gy);
@@ -90,11 +91,11 @@ KOKKOS_INLINE_FUNCTION void interpolate_with_gradient(const Real* u, Real* val, 
 }
 
 // Values only at the Q^3 points (three 1-D passes), for data whose gradient nobody reads.
-template <class Basis>
-KOKKOS_INLINE_FUNCTION void interpolate_values(const Real* u, Real* val) {
+template <class Basis, class T>
+KOKKOS_INLINE_FUNCTION void interpolate_values(const T* u, T* val) {
   constexpr int P = Basis::P, Q = Basis::Q;
   const BasisMatrix<Basis, false, false> b;
-  Real uB[Q * P * P], uBB[Q * Q * P];
+  T uB[Q * P * P], uBB[Q * Q * P];
   contract<0, P, P, P, Q>(b, u, uB);
   contract<1, Q, P, P, Q>(b, uB, uBB);
   contract<2, Q, Q, P, Q>(b, uBB, val);
@@ -102,33 +103,32 @@ KOKKOS_INLINE_FUNCTION void interpolate_values(const Real* u, Real* val) {
 
 // Transpose of interpolate_with_gradient: out[P^3] = sum_q B^T f0[q] + D^T . f1[q] (reference
 // components), i.e. the test-function integration without weights (the caller folds them in).
-template <class Basis>
-KOKKOS_INLINE_FUNCTION void integrate_value_and_gradient(const Real* f0, const Real (*f1)[3],
-                                                         Real* out) {
+template <class Basis, class T>
+KOKKOS_INLINE_FUNCTION void integrate_value_and_gradient(const T* f0, const T (*f1)[3], T* out) {
   constexpr int P = Basis::P, Q = Basis::Q;
   const BasisMatrix<Basis, false, true> bt;
   const BasisMatrix<Basis, true, true> dt;
-  Real fx[Q * Q * Q], fy[Q * Q * Q], fz[Q * Q * Q];
+  T fx[Q * Q * Q], fy[Q * Q * Q], fz[Q * Q * Q];
   for (int q = 0; q < Q * Q * Q; ++q) {
     fx[q] = f1[q][0];
     fy[q] = f1[q][1];
     fz[q] = f1[q][2];
   }
   // z pass: value and x,y-gradients go through B^T, the z-gradient through D^T.
-  Real aBB[Q * Q * P], aDB[Q * Q * P], aBD[Q * Q * P], tmp[Q * Q * P];
+  T aBB[Q * Q * P], aDB[Q * Q * P], aBD[Q * Q * P], tmp[Q * Q * P];
   contract<2, Q, Q, Q, P>(bt, f0, aBB);
   contract<2, Q, Q, Q, P>(dt, fz, tmp);
   for (int i = 0; i < Q * Q * P; ++i) aBB[i] += tmp[i];
   contract<2, Q, Q, Q, P>(bt, fx, aDB);
   contract<2, Q, Q, Q, P>(bt, fy, aBD);
   // y pass
-  Real aB[Q * P * P], aD[Q * P * P], tmp2[Q * P * P];
+  T aB[Q * P * P], aD[Q * P * P], tmp2[Q * P * P];
   contract<1, Q, Q, P, P>(bt, aBB, aB);
   contract<1, Q, Q, P, P>(dt, aBD, tmp2);
   for (int i = 0; i < Q * P * P; ++i) aB[i] += tmp2[i];
   contract<1, Q, Q, P, P>(bt, aDB, aD);
   // x pass
-  Real tmp3[P * P * P];
+  T tmp3[P * P * P];
   contract<0, Q, P, P, P>(bt, aB, out);
   contract<0, Q, P, P, P>(dt, aD, tmp3);
   for (int i = 0; i < P * P * P; ++i) out[i] += tmp3[i];

@@ -247,6 +247,9 @@ KOKKOS_INLINE_FUNCTION Real von_mises(const Real s[3][3]) {
 // Auxiliary nodal data: [d_n (3), v_n (3), b (3)]; only d_n needs a gradient.
 struct StructurePhysics {
   static constexpr int n_components = 3, n_aux = 9, n_aux_gradients = 3;
+  // Hyperelastic: dP/dF has major symmetry, the mass term is diagonal, and neither couples
+  // displacement values to gradients (the stored tangent keeps only what that leaves).
+  static constexpr bool tangent_symmetric = true, tangent_couples_values_and_gradients = false;
   StructureMaterials materials;
   Real mass_coefficient = 0;  // 1/(theta dt^2); 0: quasi-static
   Real dt = 0;

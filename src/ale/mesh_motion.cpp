@@ -141,11 +141,12 @@ std::vector<Point> MeshMotion::solve(const Mesh& mesh, const MeshDisplacementBc&
   op.residual(groups, d, rhs);
   scale(-1.0, rhs);
   zero_constrained(fixed_dofs, rhs);
+  linearise(op, groups, d, stored_);
   const ApplyFn apply = [&](ConstVector x, Vector y) {
     copy(x, scratch);
     zero_constrained(fixed_dofs, scratch);
     fill(y, 0);
-    op.apply_tangent(groups, d, scratch, y);
+    apply_stored(stored_, scratch, y);
     copy_constrained(fixed_dofs, x, y);
   };
   fill(matrix_.val, 0);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "kernels/ale/pointwise.hpp"
+#include "kernels/core/stored_tangent.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/solvers.hpp"
 
@@ -76,6 +77,7 @@ class MeshMotion {
   DeviceMesh dmesh_;
   ElementGroups groups_;
   ElementOperator<PseudoElasticPhysics> op_;
+  StoredTangentOf<PseudoElasticPhysics> stored_;  // op_'s tangent on the mesh of the current solve
   CsrMatrix matrix_;
   BoomerAmg amg_;
 };

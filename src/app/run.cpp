@@ -791,8 +791,9 @@ class Driver {
         << totals_.min_deformed_quality << "\n";
     }
     o << "  time [s]: total " << seconds() << "; scalar " << s.seconds_solve << " (residual "
-      << s.seconds_residual << ", tangent " << s.seconds_tangent << ", assembly "
-      << s.seconds_assembly << ", AMG set-up " << s.seconds_amg_setup << ")";
+      << s.seconds_residual << ", tangent " << s.seconds_tangent << ", linearisation "
+      << s.seconds_linearise << ", assembly " << s.seconds_assembly << ", AMG set-up "
+      << s.seconds_amg_setup << ")";
     if (fsi_) {
       const FsiStats& f = fsi_->stats();
       // Shape derivatives are part of the Jacobian action; the block Krylov solves are the
@@ -806,8 +807,9 @@ class Driver {
     } else if (fluid_) {
       const FluidStats& f = fluid_->stats();
       o << "; fluid " << f.seconds_solve << " (residual " << f.seconds_residual << ", tangent "
-        << f.seconds_tangent << ", assembly " << f.seconds_assembly << ", preconditioner set-up "
-        << f.seconds_preconditioner_setup << ")";
+        << f.seconds_tangent << ", linearisation " << f.seconds_linearise << ", assembly "
+        << f.seconds_assembly << ", preconditioner set-up " << f.seconds_preconditioner_setup
+        << ")";
     }
     if (scene_.growth.enabled)
       o << "; growth + mesh motion " << totals_.seconds_growth << " (" << totals_.steps

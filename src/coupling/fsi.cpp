@@ -100,6 +100,8 @@ struct FsiProblem::Impl {
   CoordView x_ref, x_work;
   ElementGroups mesh_groups;
   ElementOperator<PseudoElasticPhysics> mesh_op;
+  StoredTangentOf<PseudoElasticPhysics>
+      mesh_tangent;           // mesh_op's (state-independent) tangent on the reference
   IndexView mesh_fixed_dofs;  // walls and nodes outside the fluid, not the interface
   Vector mesh_fixed_values;
   Kokkos::View<char*, MemSpace> mesh_eliminated;  // fixed or condensed
@@ -260,7 +262,9 @@ void FsiProblem::set_reference(const Mesh& mesh) {
   {
     ScopedTimer t(stats_.seconds_assembly);
     fill(m.mesh_matrix.val, 0);
-    m.mesh_op.assemble(m.mesh_groups, Vector("biofsi::zero", 3 * n_nodes_), m.mesh_matrix);
+    const Vector zero("biofsi::zero", 3 * n_nodes_);
+    m.mesh_op.assemble(m.mesh_groups, zero, m.mesh_matrix);
+    linearise(m.mesh_op, m.mesh_groups, zero, m.mesh_tangent);
   }
   {
     const std::vector<char> eliminated = to_host(m.mesh_eliminated);
@@ -415,16 +419,16 @@ namespace {
 void apply_jacobian(FsiProblem::Impl& m, FsiStats& stats, ConstVector dx, Vector y) {
   ScopedTimer t(stats.seconds_tangent);
   const ConstVector xl = m.xs_lin;
-  const ConstVector s = m.part(xl, m.s_range), f = m.part(xl, m.f_range), g = m.part(xl, m.g_range);
+  const ConstVector f = m.part(xl, m.f_range), g = m.part(xl, m.g_range);
   sync_direction(m, dx, m.dxs);
   Vector ds = m.part(m.dxs, m.s_range), df = m.part(m.dxs, m.f_range),
          dg = m.part(m.dxs, m.g_range);
   Vector ys = m.part(y, m.s_range), yf = m.part(y, m.f_range), yg = m.part(y, m.g_range);
-  m.structure.apply_tangent(s, ds, ys);
+  m.structure.apply_linearised(ds, ys);
   // Fluid: the direction without its constrained entries, except the condensed velocities.
   zero_constrained(m.fluid.constrained_dofs(), df);
   set_condensed_velocity(m, ds, df);
-  m.fluid.tangent_unconstrained(f, df, yf);
+  m.fluid.tangent_linearised_unconstrained(df, yf);
   // Fluid mesh: the direction without its fixed entries (the condensed ones are ds).
   zero_constrained(m.mesh_fixed_dofs, dg);
   if (m.settings.shape_derivatives == ShapeDerivatives::FiniteDifference) {
@@ -446,15 +450,18 @@ void apply_jacobian(FsiProblem::Impl& m, FsiStats& stats, ConstVector dx, Vector
   add_interface_rows(m, yf, ys);
   copy_constrained(m.fluid.constrained_dofs(), m.part(dx, m.f_range), yf);
   fill(yg, 0);
-  m.mesh_op.apply_tangent(m.mesh_groups, g, dg, yg);
+  apply_stored(m.mesh_tangent, dg, yg);
   copy_constrained(m.mesh_fixed_dofs, m.part(dx, m.g_range), yg);
   condensed_rows(m, dx, yf, yg, false);
 }
 
-// Takes the Jacobian at x: synced state, fluid mesh, base residual for the shape derivative.
+// Takes the Jacobian at x: synced state, fluid mesh, the fields' stored tangents, base residual
+// for the shape derivative.
 void linearise(FsiProblem::Impl& m, ConstVector x) {
   sync_state(m, x, m.xs_lin, m.structure.displacement_device());
   move_fluid_mesh(m, m.part(ConstVector(m.xs_lin), m.g_range));
+  m.structure.linearise(m.part(ConstVector(m.xs_lin), m.s_range));
+  m.fluid.linearise(m.part(ConstVector(m.xs_lin), m.f_range));
   if (m.settings.shape_derivatives == ShapeDerivatives::FiniteDifference)
     m.fluid.residual_unconstrained(m.part(ConstVector(m.xs_lin), m.f_range), m.r_base);
 }

@@ -341,6 +341,24 @@ void FluidField::tangent_unconstrained(ConstVector u, ConstVector du, Vector y) 
   for (const auto& f : faces_) f.op.apply_tangent(u, du, y);
 }
 
+void FluidField::linearise(ConstVector u) {
+  ScopedTimer t(stats_.seconds_linearise);
+  linearisation_.update(op_, groups_, u);
+}
+
+void FluidField::tangent_linearised_unconstrained(ConstVector du, Vector y) const {
+  fill(y, 0);
+  apply_stored(linearisation_.tangent, du, y);
+  for (const auto& f : faces_) f.op.apply_tangent(linearisation_.point, du, y);
+}
+
+void FluidField::apply_linearised(ConstVector du, Vector y) const {
+  copy(du, scratch_);
+  zero_constrained(fixed_dofs_, scratch_);
+  tangent_linearised_unconstrained(scratch_, y);
+  copy_constrained(fixed_dofs_, du, y);
+}
+
 void FluidField::residual(ConstVector u, Vector r) const {
   residual_unconstrained(u, r);
   constrained_residual(fixed_dofs_, fixed_values_, u, r);
@@ -439,9 +457,10 @@ NewtonResult FluidField::advance(const std::string& label) {
     ScopedTimer t(stats_.seconds_residual);
     residual(u, r);
   };
-  sys.tangent = [this](ConstVector u, ConstVector du, Vector y) {
+  sys.linearise = [this](ConstVector u) { linearise(u); };
+  sys.tangent = [this](ConstVector, ConstVector du, Vector y) {
     ScopedTimer t(stats_.seconds_tangent);
-    apply_tangent(u, du, y);
+    apply_linearised(du, y);
   };
   sys.setup_preconditioner = [this](ConstVector u) { setup_preconditioner(u); };
   sys.precondition = [this](ConstVector r, Vector z) { precondition(r, z); };

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "kernels/core/face.hpp"
+#include "kernels/core/stored_tangent.hpp"
 #include "kernels/fluid/pointwise.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/solvers.hpp"
@@ -107,7 +108,7 @@ struct BoundaryTraction {
 struct FluidStats {
   int steps = 0, newton_iterations = 0, krylov_iterations = 0, preconditioner_setups = 0;
   int cut_steps = 0, pseudo_steps = 0;
-  double seconds_residual = 0, seconds_tangent = 0, seconds_assembly = 0,
+  double seconds_residual = 0, seconds_tangent = 0, seconds_linearise = 0, seconds_assembly = 0,
          seconds_preconditioner_setup = 0, seconds_solve = 0;
 };
 
@@ -178,6 +179,13 @@ class FluidField {
   // Element and face terms only: no constraints, the direction used as given.
   void residual_unconstrained(ConstVector u, Vector r) const;
   void tangent_unconstrained(ConstVector u, ConstVector du, Vector y) const;
+  // The tangent stored at the quadrature points at u (what the Krylov solves apply):
+  // tangent_linearised_unconstrained(du, y) equals tangent_unconstrained(u, du, y) and
+  // apply_linearised(du, y) equals apply_tangent(u, du, y), for the u of the last linearise(u),
+  // as long as the mesh and the step's data stay as they were.
+  void linearise(ConstVector u);
+  void tangent_linearised_unconstrained(ConstVector du, Vector y) const;
+  void apply_linearised(ConstVector du, Vector y) const;
   ConstIndexView constrained_dofs() const { return fixed_dofs_; }
   Kokkos::View<const char*, MemSpace> constrained_mask() const { return fixed_; }
   const CsrMatrix& matrix() const { return matrix_; }
@@ -231,6 +239,7 @@ class FluidField {
   NodalView aux_;  // [u_n, u_grid, b]
   FluidVectorFunction body_force_;
   ElementOperator<FluidPhysics> op_;
+  Linearisation<FluidPhysics> linearisation_;
   std::vector<FaceTerm> faces_;
   std::vector<FixedDof> fixed_list_;
   Kokkos::View<char*, MemSpace> fixed_;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kernels/core/face.hpp"
+#include "kernels/core/stored_tangent.hpp"
 #include "kernels/scalar/pointwise.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/solvers.hpp"
@@ -68,8 +69,8 @@ struct TransportStats {
   int steps = 0, newton_iterations = 0, krylov_iterations = 0, amg_setups = 0;
   int cut_steps = 0;     // time steps that needed sub-steps
   int pseudo_steps = 0;  // pseudo-time steps of steady solves that needed continuation
-  double seconds_residual = 0, seconds_tangent = 0, seconds_assembly = 0, seconds_amg_setup = 0,
-         seconds_solve = 0;
+  double seconds_residual = 0, seconds_tangent = 0, seconds_linearise = 0, seconds_assembly = 0,
+         seconds_amg_setup = 0, seconds_solve = 0;
 };
 
 class TransportField {
@@ -114,6 +115,10 @@ class TransportField {
   // Residual and tangent of the current step (exposed for verification).
   void residual(ConstVector phi, Vector r) const;
   void apply_tangent(ConstVector phi, ConstVector dphi, Vector y) const;
+  // The same tangent stored at the quadrature points at phi (what Newton's Krylov solves apply):
+  // apply_linearised(dphi, y) equals apply_tangent(phi, dphi, y) of the last linearise(phi).
+  void linearise(ConstVector phi);
+  void apply_linearised(ConstVector dphi, Vector y) const;
 
  private:
   struct FaceTerm {
@@ -142,6 +147,7 @@ class TransportField {
   NodalView aux_;  // [phi_n, w_x, w_y, w_z, c_x, c_y, c_z, s]
   SpaceTimeFunction source_;
   ElementOperator<TransportPhysics> op_;
+  Linearisation<TransportPhysics> linearisation_;
   std::vector<FaceTerm> faces_;
   std::map<int, SpaceTimeFunction> dirichlet_;  // node -> value (later conditions win)
   Kokkos::View<char*, MemSpace> fixed_;

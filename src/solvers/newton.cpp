@@ -64,6 +64,7 @@ NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOpti
     }
 
     eta = forcing_term(opt, res.iterations, r_norm / r_prev, eta, 0.5 * tol / r_norm);
+    if (system.linearise) system.linearise(u);
     if (system.setup_preconditioner) system.setup_preconditioner(u);
     KrylovOptions kopt = opt.krylov;
     kopt.rel_tol = eta;

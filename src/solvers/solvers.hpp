@@ -149,6 +149,10 @@ class SolveError : public std::runtime_error {
 struct NewtonSystem {
   std::function<void(ConstVector u, Vector r)> residual;
   std::function<void(ConstVector u, ConstVector du, Vector y)> tangent;  // y = J(u) du
+  // Called once per Newton iteration at the iterate u before the preconditioner and the Krylov
+  // solve (may be empty): a field stores its tangent at u there, and tangent() applies the stored
+  // one until the next call.
+  std::function<void(ConstVector u)> linearise;
   // Called once per Newton iteration before the linear solve (assemble + AMG set-up); may be empty.
   std::function<void(ConstVector u)> setup_preconditioner;
   ApplyFn precondition;    // may be empty

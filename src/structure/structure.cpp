@@ -300,6 +300,19 @@ void StructureField::apply_tangent(ConstVector u, ConstVector du, Vector y) cons
   copy_constrained(fixed_dofs_, du, y);
 }
 
+void StructureField::linearise(ConstVector u) {
+  ScopedTimer t(stats_.seconds_linearise);
+  linearisation_.update(op_, groups_, u);
+}
+
+void StructureField::apply_linearised(ConstVector du, Vector y) const {
+  copy(du, scratch_);
+  zero_constrained(fixed_dofs_, scratch_);
+  fill(y, 0);
+  apply_stored(linearisation_.tangent, scratch_, y);
+  copy_constrained(fixed_dofs_, du, y);
+}
+
 void StructureField::diagonal(ConstVector u, Vector d) const {
   fill(d, 0);
   op_.diagonal(groups_, u, d);
@@ -547,6 +560,7 @@ NewtonResult StructureField::newton(const NewtonSystem& sys, const NewtonOptions
     }
     eta = std::max(std::min(eta, opt.eta_max), 0.5 * tol / r_norm);
     eta = std::max(std::min(eta, opt.eta_max), opt.eta_min);
+    if (sys.linearise) sys.linearise(u_);
     sys.setup_preconditioner(u_);
     KrylovOptions k = opt.krylov;
     k.rel_tol = eta;
@@ -639,9 +653,10 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
     ScopedTimer t(stats_.seconds_residual);
     residual(u, r);
   };
-  sys.tangent = [this](ConstVector u, ConstVector du, Vector y) {
+  sys.linearise = [this](ConstVector u) { linearise(u); };
+  sys.tangent = [this](ConstVector, ConstVector du, Vector y) {
     ScopedTimer t(stats_.seconds_tangent);
-    apply_tangent(u, du, y);
+    apply_linearised(du, y);
   };
   // The preconditioner is rebuilt at every Newton iteration: the tangent of a finite-strain
   // problem changes with the state, and a stale AMG hierarchy costs more Krylov iterations than its

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "kernels/core/face.hpp"
+#include "kernels/core/stored_tangent.hpp"
 #include "kernels/structure/pointwise.hpp"
 #include "mesh/mesh.hpp"
 #include "solvers/solvers.hpp"
@@ -84,8 +85,8 @@ struct StructureStats {
   int steps = 0, newton_iterations = 0, krylov_iterations = 0, amg_setups = 0, cut_steps = 0;
   // Krylov iterations of each Newton iteration of the last step (AMG comparisons).
   std::vector<int> last_step_krylov;
-  double seconds_residual = 0, seconds_tangent = 0, seconds_assembly = 0, seconds_amg_setup = 0,
-         seconds_solve = 0;
+  double seconds_residual = 0, seconds_tangent = 0, seconds_linearise = 0, seconds_assembly = 0,
+         seconds_amg_setup = 0, seconds_solve = 0;
 };
 
 class StructureField {
@@ -153,6 +154,11 @@ class StructureField {
   // Element and face terms on every dof, constrained ones included: there, the reaction.
   void residual_unconstrained(ConstVector u, Vector r) const;
   void apply_tangent(ConstVector u, ConstVector du, Vector y) const;
+  // The tangent stored at the quadrature points at u (what the Krylov solves apply):
+  // apply_linearised(du, y) equals apply_tangent(u, du, y) for the u of the last linearise(u), as
+  // long as the step's data stay as they were.
+  void linearise(ConstVector u);
+  void apply_linearised(ConstVector du, Vector y) const;
   void diagonal(ConstVector u, Vector d) const;
   void assemble(ConstVector u, bool constrained);
   const CsrMatrix& matrix() const { return matrix_; }
@@ -175,6 +181,7 @@ class StructureField {
   ElementGroups groups_;
   NodalView aux_;  // [d_n, v_n, b]
   ElementOperator<StructurePhysics> op_;
+  Linearisation<StructurePhysics> linearisation_;
   std::vector<FaceTerm> faces_;
   std::array<SpaceTimeFunction, 3> body_force_;
   std::vector<std::pair<int, SpaceTimeFunction>> dirichlet_;  // (dof, total displacement)

@@ -1,7 +1,7 @@
 // The fluid operator against independent references: the tangent action against central finite
 // differences of the residual (Full linearisation is the exact derivative), and the matrix-free
-// tangent and its diagonal against the assembled matrix built by the same pointwise code
-// (STYLE.md 7), for all three linearisations.
+// tangent (on the fly and stored at the quadrature points) and its diagonal against the assembled
+// matrix built by the same pointwise code (STYLE.md 7), for all three linearisations.
 //
 // Tolerances, and why:
 //  * FD: 1e-6 relative (STYLE.md 7: "~1e-6 for finite-difference derivatives"); with a central
@@ -101,20 +101,25 @@ TEST(FluidOperator, ApplyAndDiagonalMatchAssembledMatrix) {
       const int n = c.field->n_dofs();
       const Vector u = device_vector(c.u);
       const Vector du = device_vector(random_values(n, -1, 1, 19));
-      Vector y("test::y", n), ya("test::ya", n), d("test::d", n), da("test::da", n);
+      Vector y("test::y", n), ya("test::ya", n), ys("test::ys", n), d("test::d", n),
+          da("test::da", n);
       c.field->apply_tangent(u, du, y);
+      c.field->linearise(u);
+      c.field->apply_linearised(du, ys);
       const CsrMatrix& a = c.field->assemble_jacobian(u);
       csr_multiply(a, du, ya);
       c.field->diagonal(u, d);
       csr_diagonal(a, da);
       const double e_apply = relative_difference(host_vector(y), host_vector(ya));
+      const double e_stored = relative_difference(host_vector(ys), host_vector(ya));
       const double e_diag = relative_difference(host_vector(d), host_vector(da));
       std::printf(
-          "[ measured ] linearisation %d, %s: apply vs assembled %.2e, diagonal vs assembled "
-          "%.2e\n",
+          "[ measured ] linearisation %d, %s: apply vs assembled %.2e, stored tangent vs "
+          "assembled %.2e, diagonal vs assembled %.2e\n",
           static_cast<int>(lin), bcs ? "with boundary conditions" : "no boundary conditions",
-          e_apply, e_diag);
+          e_apply, e_stored, e_diag);
       EXPECT_LT(e_apply, 1e-12);
+      EXPECT_LT(e_stored, 1e-12);
       EXPECT_LT(e_diag, 1e-12);
     }
 }

@@ -1,6 +1,7 @@
 // The fluid and structure pointwise physics through the generic element loop, without src/ (so
-// that the CUDA preset compiles and, on a GPU, runs them): the matrix-free tangent action equals a
-// central finite difference of the residual along a direction, on a distorted mesh with a state
+// that the CUDA preset compiles and, on a GPU, runs them): the matrix-free tangent action, on the
+// fly and stored at the quadrature points, equals a central finite difference of the residual
+// along a direction, on a distorted mesh with a state
 // far from the linear regime. The fields' own tests (tests/fluid, tests/structure) check the same
 // against the assembled matrices on the host; this one is the kernels' portability check.
 // Tolerance: central differences with h = 1e-6 relative leave O(h^2) truncation and O(eps/h)
@@ -10,6 +11,7 @@
 
 #include <cmath>
 
+#include "kernels/core/stored_tangent.hpp"
 #include "kernels/fluid/pointwise.hpp"
 #include "kernels/structure/pointwise.hpp"
 #include "small_mesh.hpp"
@@ -54,10 +56,11 @@ double max_abs(ConstVector v) {
   return s;
 }
 
-// max |J du - (r(u + h du) - r(u - h du)) / 2h| / max |J du|.
+// max |J du - (r(u + h du) - r(u - h du)) / 2h| / max |J du|, with J the on-the-fly tangent or
+// (stored = true) the tangent stored at the quadrature points.
 template <class Physics>
 double tangent_defect(const SmallMesh& m, const ElementOperator<Physics>& op, ConstVector u,
-                      ConstVector du, double h) {
+                      ConstVector du, double h, bool stored = false) {
   const int n = static_cast<int>(u.extent(0));
   const ElementGroups groups = element_groups(m, Scatter::Colored);
   Vector up("test::up", n), um("test::um", n), rp("test::rp", n), rm("test::rm", n),
@@ -66,13 +69,19 @@ double tangent_defect(const SmallMesh& m, const ElementOperator<Physics>& op, Co
   combine(1, u, -h, du, um);
   op.residual(groups, up, rp);
   op.residual(groups, um, rm);
-  op.apply_tangent(groups, u, du, jdu);
+  if (stored) {
+    StoredTangentOf<Physics> store;
+    linearise(op, groups, u, store);
+    apply_stored(store, du, jdu);
+  } else {
+    op.apply_tangent(groups, u, du, jdu);
+  }
   combine(0.5 / h, rp, -0.5 / h, rm, fd);
   combine(1, jdu, -1, fd, fd);
   return max_abs(fd) / max_abs(jdu);
 }
 
-double fluid_defect(bool transient) {
+double fluid_defect(bool transient, bool stored = false) {
   const double length[3] = {1.0, 0.6, 0.3};
   const SmallMesh m = make_small_mesh(4, 3, 2, length, 0.04);
   FluidPhysics p;
@@ -96,10 +105,10 @@ double fluid_defect(bool transient) {
   const Vector du = nodal(
       m, 4, [](int c, double x, double y, double z) { return std::sin(3 * x - y + c) + 0.2 * z; },
       "test::du");
-  return tangent_defect(m, op, u, du, 1e-6);
+  return tangent_defect(m, op, u, du, 1e-6, stored);
 }
 
-double structure_defect(int model) {
+double structure_defect(int model, bool stored = false) {
   const double length[3] = {1.0, 0.6, 0.3};
   const SmallMesh m = make_small_mesh(4, 3, 2, length, 0.04);
   StructurePhysics p;
@@ -128,17 +137,21 @@ double structure_defect(int model) {
   const Vector du = nodal(
       m, 3, [](int c, double x, double y, double z) { return std::sin(3 * x - y + c) + 0.2 * z; },
       "test::du");
-  return tangent_defect(m, op, u, du, 1e-6);
+  return tangent_defect(m, op, u, du, 1e-6, stored);
 }
 
 }  // namespace
 
 TEST(FieldKernels, FluidTangentIsTheDerivativeOfTheResidual) {
-  EXPECT_LT(fluid_defect(false), 1e-6);
-  EXPECT_LT(fluid_defect(true), 1e-6);
+  for (bool stored : {false, true}) {
+    EXPECT_LT(fluid_defect(false, stored), 1e-6);
+    EXPECT_LT(fluid_defect(true, stored), 1e-6);
+  }
 }
 
 TEST(FieldKernels, StructureTangentIsTheDerivativeOfTheResidual) {
-  EXPECT_LT(structure_defect(SaintVenantKirchhoff), 1e-6);
-  EXPECT_LT(structure_defect(NeoHooke), 1e-6);
+  for (bool stored : {false, true}) {
+    EXPECT_LT(structure_defect(SaintVenantKirchhoff, stored), 1e-6);
+    EXPECT_LT(structure_defect(NeoHooke, stored), 1e-6);
+  }
 }

@@ -1,0 +1,385 @@
+// The tangent stored at the quadrature points: what a Krylov solve applies many times at one
+// linearisation point.
+//
+// At one point the tangent of any Physics is a linear map from (du, grad du) to (df0, df1), i.e. a
+// (4 NC) x (4 NC) matrix. `linearise` evaluates it once per Newton linearisation through the
+// Physics' own `tangent` (so residual, tangent, diagonal and assembly still share one pointwise
+// definition) and folds in everything that depends only on the linearisation point and the
+// geometry: the quadrature weight times det J and the inverse Jacobians on both sides, so that
+// the stored matrix acts on reference values and gradients directly. The apply is then gather,
+// sum-factorised interpolation, one small matrix-vector product per point, sum-factorised
+// integration and scatter: no geometry, no auxiliary fields, no stabilisation parameters, no
+// transcendental functions per Krylov iteration.
+//
+// Elements are processed in batches of `simd_width` (8 on the CPU) taken from one element group,
+// with the stored data laid out [batch][entry][lane], so that every arithmetic operation of the
+// apply is a packed one over the batch's elements (kernels/core/simd.hpp). On CUDA a batch is one
+// element and the layout puts consecutive elements next to each other (coalesced loads).
+//
+// Cost per element and apply (hex8, 8 points): the stored matrices are 8 (4 NC)^2 doubles, 1 KiB
+// for a scalar field and 16 KiB for the fluid's 4 components, less where the Physics declares a
+// symmetric or block-decoupled map (3 KiB for the structure and mesh motion); against that, the
+// on-the-fly apply recomputes geometry, interpolates every auxiliary field with gradients and
+// evaluates the physics at every point (bench/README.md has the measured bytes and rates).
+#pragma once
+
+#include <vector>
+
+#include "element_loop.hpp"
+#include "simd.hpp"
+
+namespace biofsi {
+
+// Which entries of the local map are stored. A Physics may declare
+//   static constexpr bool tangent_symmetric = true;  // the map is symmetric (hyperelasticity)
+//   static constexpr bool tangent_couples_values_and_gradients = false;  // df0 only from du, df1
+//                                                                       // only from grad du
+// Then only the upper triangle and only the non-zero blocks are stored: 48 instead of 144 entries
+// per point for the structure, 45 for mesh motion.
+template <int NC, bool Symmetric = false, bool Coupled = true>
+struct TangentPattern {
+  static constexpr int n_local = 4 * NC;  // value and 3 reference gradients per component
+  static constexpr bool symmetric = Symmetric, coupled = Coupled;
+  KOKKOS_INLINE_FUNCTION static constexpr bool stored(int k, int l) {
+    return (!Symmetric || k <= l) && (Coupled || (k % 4 == 0) == (l % 4 == 0));
+  }
+  static constexpr int count() {
+    int n = 0;
+    for (int k = 0; k < n_local; ++k)
+      for (int l = 0; l < n_local; ++l) n += stored(k, l) ? 1 : 0;
+    return n;
+  }
+  static constexpr int n_entries = count();  // per quadrature point
+};
+
+namespace detail {
+template <class Physics, class = void>
+struct DeclaredSymmetric : std::false_type {};
+template <class Physics>
+struct DeclaredSymmetric<Physics, std::void_t<decltype(Physics::tangent_symmetric)>>
+    : std::integral_constant<bool, Physics::tangent_symmetric> {};
+template <class Physics, class = void>
+struct DeclaredCoupled : std::true_type {};
+template <class Physics>
+struct DeclaredCoupled<Physics,
+                       std::void_t<decltype(Physics::tangent_couples_values_and_gradients)>>
+    : std::integral_constant<bool, Physics::tangent_couples_values_and_gradients> {};
+}  // namespace detail
+
+// The pattern a Physics declares.
+template <class Physics>
+using PatternOf = TangentPattern<Physics::n_components, detail::DeclaredSymmetric<Physics>::value,
+                                 detail::DeclaredCoupled<Physics>::value>;
+
+template <class Pattern, int W = simd_width>
+struct StoredTangent {
+  static constexpr int n_local = Pattern::n_local, n_entries = Pattern::n_entries, width = W;
+  using Layout = std::conditional_t<W == 1, Kokkos::LayoutLeft, Kokkos::LayoutRight>;
+
+  // Batches of each element group, in the group's order: groups [offset[g], offset[g + 1]).
+  std::vector<int> group_offset;
+  Scatter scatter = Scatter::Atomic;
+  // Lexicographic node ids of each batch's lanes; -1 in the padding lanes of a group's last batch.
+  Kokkos::View<int** [W], Layout, MemSpace> nodes;
+  // Per batch, point q and stored entry e (row-major over the pattern's stored (k, l)):
+  // matrix(batch, q n_entries + e, lane).
+  Kokkos::View<Real** [W], Layout, MemSpace> matrix;
+
+  int n_batches() const { return group_offset.empty() ? 0 : group_offset.back(); }
+  std::size_t bytes() const { return matrix.span() * sizeof(Real) + nodes.span() * sizeof(int); }
+};
+
+// The store type of an operator's Physics.
+template <class Physics, int W = simd_width>
+using StoredTangentOf = StoredTangent<PatternOf<Physics>, W>;
+
+namespace detail {
+
+// Fills one lane of the store from the Physics' tangent at the linearisation point u.
+template <class Physics, class Basis, int W>
+struct LineariseLoop {
+  using Pattern = PatternOf<Physics>;
+  using Store = StoredTangent<Pattern, W>;
+  static constexpr int NC = Physics::n_components, NM = Pattern::n_local;
+  static constexpr int NE = Pattern::n_entries, NN = Basis::n_nodes, NQ = Basis::n_qp;
+
+  ElementLoop<Physics, Basis> element;
+  ConstIndexView group;
+  int batch_offset;
+  decltype(Store::nodes) nodes;
+  decltype(Store::matrix) matrix;
+
+  KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+    const int b = batch_offset + i / W, l = i % W;
+    if (i >= static_cast<int>(group.extent(0))) {
+      for (int a = 0; a < NN; ++a) nodes(b, a, l) = -1;
+      for (int k = 0; k < NQ * NE; ++k) matrix(b, k, l) = 0;
+      return;
+    }
+    typename ElementLoop<Physics, Basis>::Gathered g;
+    element.gather(group(i), g);
+    for (int a = 0; a < NN; ++a) nodes(b, a, l) = g.node[a];
+    for (int q = 0; q < NQ; ++q) {
+      const auto& inv = g.geo.inv[q];
+      Real uq[NC], gu[NC][3];
+      for (int c = 0; c < NC; ++c) {
+        uq[c] = g.uq[c][q];
+        for (int d = 0; d < 3; ++d) gu[c][d] = g.gu[c][q][d];
+      }
+      // Column `col` of the local map: the input is a unit value (j = 0) or a unit reference
+      // gradient along j - 1 of component cc, whose physical gradient is that row of inv.
+      Real local[NM][NM];
+      for (int col = 0; col < NM; ++col) {
+        const int cc = col / 4, j = col % 4;
+        Real du[NC], gdu[NC][3], r0[NC], r1[NC][3];
+        for (int c = 0; c < NC; ++c) {
+          du[c] = (c == cc && j == 0) ? 1.0 : 0.0;
+          for (int d = 0; d < 3; ++d) gdu[c][d] = (c == cc && j > 0) ? inv[j - 1][d] : 0.0;
+        }
+        element.physics.tangent(g.qp[q], uq, gu, du, gdu, r0, r1);
+        for (int c = 0; c < NC; ++c) {
+          Real ref[3];
+          reference_flux(inv, r1[c], ref);
+          local[4 * c][col] = g.geo.wdet[q] * r0[c];
+          for (int d = 0; d < 3; ++d) local[4 * c + 1 + d][col] = g.geo.wdet[q] * ref[d];
+        }
+      }
+      int e = q * NE;
+      for (int k = 0; k < NM; ++k)
+        for (int m = 0; m < NM; ++m)
+          if (Pattern::stored(k, m)) matrix(b, e++, l) = local[k][m];
+    }
+  }
+};
+
+// The local map of point q of one batch applied to x: y = M x (entries in storage order, the
+// transposed half of a symmetric pattern from the same entries).
+template <class Pattern, class T, class Load>
+KOKKOS_INLINE_FUNCTION void apply_local(const Load& load, int base, const T* x, T* y) {
+  constexpr int NM = Pattern::n_local;
+  for (int k = 0; k < NM; ++k) y[k] = 0;
+  int e = base;
+  BIOFSI_UNROLL
+  for (int k = 0; k < NM; ++k) BIOFSI_UNROLL
+  for (int m = 0; m < NM; ++m) {
+    if (!Pattern::stored(k, m)) continue;
+    const T v = load(e++);
+    y[k] += v * x[m];
+    if (Pattern::symmetric && k != m) y[m] += v * x[k];
+  }
+}
+
+template <class Pattern, class Basis, int W>
+struct StoredApplyLoop {
+  using Store = StoredTangent<Pattern, W>;
+  using T = SimdValue<W>;
+  static constexpr int NC = Pattern::n_local / 4, NM = Pattern::n_local, NE = Pattern::n_entries;
+  static constexpr int NN = Basis::n_nodes, NQ = Basis::n_qp;
+
+  decltype(Store::nodes) nodes;
+  decltype(Store::matrix) matrix;
+  ConstVector du;
+  Vector out;
+  int batch_offset;
+  bool atomic;
+
+  KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+    const int b = batch_offset + i;
+    T de[NC][NN];
+    for (int a = 0; a < NN; ++a)
+      for (int l = 0; l < W; ++l) {
+        const int n = nodes(b, a, l);
+        for (int c = 0; c < NC; ++c) lane(de[c][a], l) = n >= 0 ? du(n * NC + c) : 0.0;
+      }
+    T x[NQ][NM];
+    for (int c = 0; c < NC; ++c) {
+      T val[NQ], grad[NQ][3];
+      interpolate_with_gradient<Basis>(de[c], val, grad);
+      for (int q = 0; q < NQ; ++q) {
+        x[q][4 * c] = val[q];
+        for (int d = 0; d < 3; ++d) x[q][4 * c + 1 + d] = grad[q][d];
+      }
+    }
+    const auto load = [&](int e) {
+      T v;
+      for (int l = 0; l < W; ++l) lane(v, l) = matrix(b, e, l);
+      return v;
+    };
+    T f0[NC][NQ], f1[NC][NQ][3];
+    for (int q = 0; q < NQ; ++q) {
+      T y[NM];
+      apply_local<Pattern>(load, q * NE, x[q], y);
+      for (int c = 0; c < NC; ++c) {
+        f0[c][q] = y[4 * c];
+        for (int d = 0; d < 3; ++d) f1[c][q][d] = y[4 * c + 1 + d];
+      }
+    }
+    for (int c = 0; c < NC; ++c) {
+      T re[NN];
+      integrate_value_and_gradient<Basis>(f0[c], f1[c], re);
+      for (int a = 0; a < NN; ++a)
+        for (int l = 0; l < W; ++l) {
+          const int n = nodes(b, a, l);
+          if (n >= 0) accumulate(atomic, &out(n * NC + c), lane(re[a], l));
+        }
+    }
+  }
+};
+
+// The element matrix of one lane from the store, K_(a c),(b cb) = sum_q phi_a^T M_q phi_b with
+// phi = (N, reference grad N): its diagonal or all of it scattered.
+template <class Pattern, class Basis, int W>
+struct StoredMatrixLoop {
+  using Store = StoredTangent<Pattern, W>;
+  static constexpr int NC = Pattern::n_local / 4, NM = Pattern::n_local, NE = Pattern::n_entries;
+  static constexpr int NN = Basis::n_nodes, NQ = Basis::n_qp;
+
+  decltype(Store::nodes) nodes;
+  decltype(Store::matrix) matrix;
+  Vector diagonal;      // when non-empty: accumulate the diagonal
+  CsrMatrix assembled;  // otherwise: accumulate the element matrix
+  int batch_offset;
+  bool atomic;
+
+  // The full local map of point q.
+  KOKKOS_INLINE_FUNCTION void expand(int b, int l, int q, Real (*m)[NM]) const {
+    int e = q * NE;
+    for (int k = 0; k < NM; ++k)
+      for (int j = 0; j < NM; ++j) {
+        if (!Pattern::stored(k, j)) {
+          const bool mirrored = Pattern::symmetric && k > j && Pattern::stored(j, k);
+          if (!mirrored) m[k][j] = 0;
+          continue;
+        }
+        m[k][j] = matrix(b, e++, l);
+        if (Pattern::symmetric) m[j][k] = m[k][j];
+      }
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+    const int b = batch_offset + i / W, l = i % W;
+    if (nodes(b, 0, l) < 0) return;
+    const bool diagonal_only = diagonal.extent(0) > 0;
+    Real ke[NN * NC][NN * NC];
+    for (int r = 0; r < NN * NC; ++r)
+      for (int c = 0; c < NN * NC; ++c) ke[r][c] = 0;
+    for (int q = 0; q < NQ; ++q) {
+      Real m[NM][NM], phi[NN][4];
+      expand(b, l, q, m);
+      for (int a = 0; a < NN; ++a) basis_at_point<Basis>(a, q, phi[a][0], phi[a] + 1);
+      for (int a = 0; a < NN; ++a)
+        for (int c = 0; c < NC; ++c)
+          for (int bb = 0; bb < NN; ++bb)
+            for (int cb = 0; cb < NC; ++cb) {
+              if (diagonal_only && (a != bb || c != cb)) continue;
+              Real s = 0;
+              for (int x = 0; x < 4; ++x)
+                for (int y = 0; y < 4; ++y) s += phi[a][x] * m[4 * c + x][4 * cb + y] * phi[bb][y];
+              ke[a * NC + c][bb * NC + cb] += s;
+            }
+    }
+    if (diagonal_only) {
+      for (int a = 0; a < NN; ++a)
+        for (int c = 0; c < NC; ++c)
+          accumulate(atomic, &diagonal(nodes(b, a, l) * NC + c), ke[a * NC + c][a * NC + c]);
+      return;
+    }
+    const int* rp = assembled.row_ptr.data();
+    const int* cols = assembled.col.data();
+    for (int a = 0; a < NN; ++a)
+      for (int c = 0; c < NC; ++c)
+        for (int bb = 0; bb < NN; ++bb)
+          for (int cb = 0; cb < NC; ++cb) {
+            const int k = csr_find(rp, cols, nodes(b, a, l) * NC + c, nodes(b, bb, l) * NC + cb);
+            accumulate(atomic, &assembled.val(k), ke[a * NC + c][bb * NC + cb]);
+          }
+  }
+};
+
+}  // namespace detail
+
+// Linearises `op` at u over the element groups `set` into `store` (re-using its memory when the
+// sizes match): once per Newton iteration, before the Krylov solve.
+template <class Physics, class Basis, int W>
+void linearise(const ElementOperator<Physics, Basis>& op, const ElementGroups& set, ConstVector u,
+               StoredTangent<PatternOf<Physics>, W>& store) {
+  using Store = StoredTangent<PatternOf<Physics>, W>;
+  std::vector<int> offset{0};
+  for (const auto& g : set.groups)
+    offset.push_back(offset.back() + (static_cast<int>(g.extent(0)) + W - 1) / W);
+  const int n = offset.back();
+  constexpr int entries = Basis::n_qp * Store::n_entries;
+  if (static_cast<int>(store.matrix.extent(0)) != n) {
+    store.nodes = decltype(store.nodes)("biofsi::stored_tangent::nodes", n, Basis::n_nodes);
+    store.matrix = decltype(store.matrix)(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "biofsi::stored_tangent::matrix"), n,
+        entries);
+  }
+  store.group_offset = offset;
+  store.scatter = set.scatter;
+  detail::LineariseLoop<Physics, Basis, W> loop{op.element_loop(u, u, Vector{}), ConstIndexView{},
+                                                0, store.nodes, store.matrix};
+  for (size_t g = 0; g < set.groups.size(); ++g) {
+    loop.group = set.groups[g];
+    loop.batch_offset = offset[g];
+    const int lanes = (offset[g + 1] - offset[g]) * W;
+    Kokkos::parallel_for("biofsi::linearise", Kokkos::RangePolicy<ExecSpace>(0, lanes), loop);
+  }
+}
+
+// y += J du with the stored tangent.
+template <class Basis = Hex8, class Pattern, int W>
+void apply_stored(const StoredTangent<Pattern, W>& store, ConstVector du, Vector y) {
+  detail::StoredApplyLoop<Pattern, Basis, W> loop{
+      store.nodes, store.matrix, du, y, 0, store.scatter == Scatter::Atomic};
+  for (size_t g = 0; g + 1 < store.group_offset.size(); ++g) {
+    loop.batch_offset = store.group_offset[g];
+    Kokkos::parallel_for(
+        "biofsi::apply_stored",
+        Kokkos::RangePolicy<ExecSpace>(0, store.group_offset[g + 1] - store.group_offset[g]), loop);
+  }
+}
+
+namespace detail {
+template <class Basis, class Pattern, int W>
+void run_stored_matrix(const StoredTangent<Pattern, W>& store, Vector d, const CsrMatrix& a) {
+  StoredMatrixLoop<Pattern, Basis, W> loop{
+      store.nodes, store.matrix, d, a, 0, store.scatter == Scatter::Atomic};
+  for (size_t g = 0; g + 1 < store.group_offset.size(); ++g) {
+    loop.batch_offset = store.group_offset[g];
+    const int lanes = (store.group_offset[g + 1] - store.group_offset[g]) * W;
+    Kokkos::parallel_for("biofsi::stored_matrix", Kokkos::RangePolicy<ExecSpace>(0, lanes), loop);
+  }
+}
+}  // namespace detail
+
+// d += diag(J) from the stored tangent.
+template <class Basis = Hex8, class Pattern, int W>
+void diagonal_stored(const StoredTangent<Pattern, W>& store, Vector d) {
+  detail::run_stored_matrix<Basis>(store, d, CsrMatrix{});
+}
+
+// A += J from the stored tangent, into A's fixed pattern.
+template <class Basis = Hex8, class Pattern, int W>
+void assemble_stored(const StoredTangent<Pattern, W>& store, const CsrMatrix& a) {
+  detail::run_stored_matrix<Basis>(store, Vector{}, a);
+}
+
+// A stored tangent with the state it was taken at, for the terms a field still applies on the fly
+// at that state (boundary faces, couplings).
+template <class Physics, int W = simd_width>
+struct Linearisation {
+  StoredTangentOf<Physics, W> tangent;
+  Vector point;
+
+  template <class Basis>
+  void update(const ElementOperator<Physics, Basis>& op, const ElementGroups& set, ConstVector u) {
+    if (point.extent(0) != u.extent(0))
+      point = Vector(Kokkos::view_alloc(Kokkos::WithoutInitializing, "biofsi::linearisation_point"),
+                     u.extent(0));
+    Kokkos::deep_copy(point, u);
+    linearise(op, set, u, tangent);
+  }
+};
+
+}  // namespace biofsi
