@@ -74,7 +74,10 @@ using PatternOf = TangentPattern<Physics::n_components, detail::DeclaredSymmetri
 template <class Pattern, int W = simd_width>
 struct StoredTangent {
   static constexpr int n_local = Pattern::n_local, n_entries = Pattern::n_entries, width = W;
-  using Layout = std::conditional_t<W == 1, Kokkos::LayoutLeft, Kokkos::LayoutRight>;
+  // On a GPU (one element per thread) consecutive elements side by side, for coalesced loads; on
+  // the CPU each batch's data contiguous, whatever its width.
+  using Layout =
+      std::conditional_t<W == 1 && simd_width == 1, Kokkos::LayoutLeft, Kokkos::LayoutRight>;
 
   // Batches of each element group, in the group's order: groups [offset[g], offset[g + 1]).
   std::vector<int> group_offset;

@@ -2,8 +2,10 @@
 //
 // What lives here: scalar and View types (types.hpp), the hex8 basis with sum factorisation and
 // on-the-fly geometry (hex8.hpp), the boundary-face quadrature (face.hpp), the CSR matrix layout
-// (csr.hpp) and the generic element-loop drivers that turn pointwise physics into residual,
-// tangent action, diagonal and assembled matrix (element_loop.hpp).
+// (csr.hpp), the generic element-loop drivers that turn pointwise physics into residual,
+// tangent action, diagonal and assembled matrix (element_loop.hpp), and the tangent stored at the
+// quadrature points, applied in SIMD batches of elements (stored_tangent.hpp, simd.hpp), which is
+// what the fields' Krylov solves apply.
 // What it may include: Kokkos only. No I/O, no MPI, no hypre, no std:: containers in kernels.
 // Who depends on it: kernels/<field>/ pointwise physics and everything in src/.
 #pragma once
