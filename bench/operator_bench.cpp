@@ -1,5 +1,6 @@
 // Tangent-apply throughput of every field's operator on one deformed mesh, in one run: the
-// on-the-fly matrix-free apply, the stored tangent (kernels/core/stored_tangent.hpp) in SIMD
+// on-the-fly matrix-free apply, the stored tangent (kernels/core/stored_tangent.hpp: what the
+// fields use, the fluid's as point states, and for the fluid also the full stored map) in SIMD
 // batches and with one element per batch, its linearisation, and the CSR matvec of the assembled
 // matrix of the same operator (hypre ParCSR and the kernels' Kokkos CSR). bench/run_operator_bench
 // runs it at 1 and 2 threads and prints the ratios; absolute rates depend on the machine's load.
@@ -25,6 +26,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "bench/bench_support.hpp"
@@ -158,8 +160,9 @@ struct FieldProblem {
   ElementGroups groups;
   CsrMatrix matrix;
   std::unique_ptr<bench::HypreCsr> hypre;
-  StoredTangentOf<Physics> packed;
-  StoredTangentOf<Physics, 1> single;
+  FieldStoreOf<Physics> packed;  // what the fields use
+  FieldStoreOf<Physics, 1> single;
+  StoredTangentOf<Physics> full_map;  // the map itself, where the fields store point states
   Vector u, x, y;
 
   FieldProblem(int n, const Physics& physics) : mesh(deformed_cube(n)) {
@@ -187,6 +190,8 @@ struct FieldProblem {
     hypre = std::make_unique<bench::HypreCsr>(matrix);
     linearise(*op, groups, u, packed);
     linearise(*op, groups, u, single);
+    if (std::is_same<FieldStoreOf<Physics>, StoredPointStates<Physics>>::value)
+      linearise(*op, groups, u, full_map);
     Kokkos::fence();
   }
 };
@@ -256,6 +261,15 @@ void register_field(const std::string& field, double dofs, const Physics& physic
       apply_stored(p.single, p.x, p.y);
     });
   });
+  if (std::is_same<FieldStoreOf<Physics>, StoredPointStates<Physics>>::value)
+    reg("stored_full_map", [get](benchmark::State& s) {
+      Problem& p = get();
+      timed(s, p, [&] {
+        Kokkos::deep_copy(p.y, 0.0);
+        apply_stored(p.full_map, p.x, p.y);
+      });
+      s.counters["bytes/DoF"] = double(p.full_map.bytes()) / p.n_dofs + 24;
+    });
   reg("linearise", [get](benchmark::State& s) {
     Problem& p = get();
     timed(s, p, [&] { linearise(*p.op, p.groups, p.u, p.packed); });

@@ -14,8 +14,12 @@ namespace biofsi {
 // Full unrolling of the short fixed-trip loops of the batched kernels: their bounds and the stored
 // pattern are compile-time constants, so unrolled they leave straight-line packed arithmetic with
 // the operands in registers instead of a loop that tests the pattern at every entry.
-#if defined(__CUDACC__) || defined(__clang__)
+// nvcc's device pass takes "unroll"; its host pass knows neither that nor GCC's form, and the
+// host side of a CUDA build does not run these kernels, so it gets none.
+#if defined(__CUDA_ARCH__) || defined(__clang__)
 #define BIOFSI_UNROLL _Pragma("unroll")
+#elif defined(__CUDACC__)
+#define BIOFSI_UNROLL
 #elif defined(__GNUC__)
 #define BIOFSI_UNROLL _Pragma("GCC unroll 64")
 #else
@@ -72,6 +76,16 @@ KOKKOS_INLINE_FUNCTION Pack<W> operator*(Real s, Pack<W> a) {
 template <int W>
 KOKKOS_INLINE_FUNCTION Pack<W> operator*(Pack<W> a, Real s) {
   return s * a;
+}
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> operator/(Pack<W> a, Real s) {
+  for (int i = 0; i < W; ++i) a.v[i] /= s;
+  return a;
+}
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> operator-(Pack<W> a) {
+  for (int i = 0; i < W; ++i) a.v[i] = -a.v[i];
+  return a;
 }
 
 // The value type of a batch of W elements.

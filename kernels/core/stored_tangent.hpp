@@ -18,9 +18,12 @@
 //
 // Cost per element and apply (hex8, 8 points): the stored matrices are 8 (4 NC)^2 doubles, 1 KiB
 // for a scalar field and 16 KiB for the fluid's 4 components, less where the Physics declares a
-// symmetric or block-decoupled map (3 KiB for the structure and mesh motion); against that, the
-// on-the-fly apply recomputes geometry, interpolates every auxiliary field with gradients and
-// evaluates the physics at every point (bench/README.md has the measured bytes and rates).
+// symmetric or block-decoupled map (3 KiB for the structure and mesh motion). A Physics whose
+// tangent is cheap given a small per-point state can store that state and the geometry instead
+// (StoredPointStates: the fluid, 34 doubles per point instead of 256) and have its tangent
+// evaluated on SIMD packs. Against either, the on-the-fly apply recomputes geometry, interpolates
+// every auxiliary field with gradients and evaluates the physics at every point
+// (bench/README.md has the measured bytes and rates).
 #pragma once
 
 #include <vector>
@@ -71,26 +74,64 @@ template <class Physics>
 using PatternOf = TangentPattern<Physics::n_components, detail::DeclaredSymmetric<Physics>::value,
                                  detail::DeclaredCoupled<Physics>::value>;
 
-template <class Pattern, int W = simd_width>
-struct StoredTangent {
-  static constexpr int n_local = Pattern::n_local, n_entries = Pattern::n_entries, width = W;
+// Elements in batches of W taken from the groups of an ElementGroups, in the groups' order.
+template <int W>
+struct ElementBatches {
   // On a GPU (one element per thread) consecutive elements side by side, for coalesced loads; on
   // the CPU each batch's data contiguous, whatever its width.
   using Layout =
       std::conditional_t<W == 1 && simd_width == 1, Kokkos::LayoutLeft, Kokkos::LayoutRight>;
 
-  // Batches of each element group, in the group's order: groups [offset[g], offset[g + 1]).
+  // Batches of group g: [group_offset[g], group_offset[g + 1]).
   std::vector<int> group_offset;
   Scatter scatter = Scatter::Atomic;
   // Lexicographic node ids of each batch's lanes; -1 in the padding lanes of a group's last batch.
   Kokkos::View<int** [W], Layout, MemSpace> nodes;
-  // Per batch, point q and stored entry e (row-major over the pattern's stored (k, l)):
-  // matrix(batch, q n_entries + e, lane).
-  Kokkos::View<Real** [W], Layout, MemSpace> matrix;
 
   int n_batches() const { return group_offset.empty() ? 0 : group_offset.back(); }
-  std::size_t bytes() const { return matrix.span() * sizeof(Real) + nodes.span() * sizeof(int); }
 };
+
+template <class Pattern, int W = simd_width>
+struct StoredTangent : ElementBatches<W> {
+  static constexpr int n_local = Pattern::n_local, n_entries = Pattern::n_entries, width = W;
+  // Per batch, point q and stored entry e (row-major over the pattern's stored (k, l)):
+  // matrix(batch, q n_entries + e, lane).
+  Kokkos::View<Real** [W], typename ElementBatches<W>::Layout, MemSpace> matrix;
+
+  std::size_t bytes() const {
+    return matrix.span() * sizeof(Real) + this->nodes.span() * sizeof(int);
+  }
+};
+
+// For a Physics whose tangent is a cheap function of a small per-point state (it declares
+//   template <class T> struct PointState { T ...; };            // T members only
+//   PointState<Real> point_state(const QpData&, u, grad u) const;
+//   template <class T> void tangent_at(const PointState<T>&, du, grad du, df0, df1) const;
+// with tangent() = tangent_at(point_state(...))): the state, the inverse Jacobian and w det J per
+// point are stored instead of the map, and the apply evaluates tangent_at on SIMD packs. The
+// fluid's dense 16 x 16 map (256 doubles per point) becomes 24 + 10.
+template <class Physics, int W = simd_width>
+struct StoredPointStates : ElementBatches<W> {
+  using State = typename Physics::template PointState<Real>;
+  static constexpr int n_state = sizeof(State) / sizeof(Real);
+  static constexpr int n_entries = n_state + 10;  // state, inv J (row-major), w det J
+  static_assert(sizeof(State) == n_state * sizeof(Real), "PointState must hold T members only");
+  Physics physics;  // the parameters tangent_at reads
+  // data(batch, q n_entries + e, lane)
+  Kokkos::View<Real** [W], typename ElementBatches<W>::Layout, MemSpace> data;
+
+  std::size_t bytes() const {
+    return data.span() * sizeof(Real) + this->nodes.span() * sizeof(int);
+  }
+};
+
+namespace detail {
+template <class Physics, class = void>
+struct HasPointState : std::false_type {};
+template <class Physics>
+struct HasPointState<Physics, std::void_t<typename Physics::template PointState<Real>>>
+    : std::true_type {};
+}  // namespace detail
 
 // The store type of an operator's Physics.
 template <class Physics, int W = simd_width>
@@ -155,6 +196,37 @@ struct LineariseLoop {
   }
 };
 
+// du of a batch's nodes, one element per lane (zero in padding lanes).
+template <int NC, int NN, class Nodes, class T>
+KOKKOS_INLINE_FUNCTION void gather_batch(const Nodes& nodes, int b, const ConstVector& du,
+                                         T (*de)[NN]) {
+  constexpr int W = Nodes::rank == 3 ? static_cast<int>(Nodes::static_extent(2)) : 1;
+  for (int a = 0; a < NN; ++a)
+    for (int l = 0; l < W; ++l) {
+      const int n = nodes(b, a, l);
+      for (int c = 0; c < NC; ++c) lane(de[c][a], l) = n >= 0 ? du(n * NC + c) : 0.0;
+    }
+}
+
+// Integrates a batch's (f0, f1) (reference components, weights folded in) against the test
+// functions and adds each lane into `out`.
+template <class Basis, int NC, class Nodes, class T>
+KOKKOS_INLINE_FUNCTION void integrate_and_scatter_batch(const Nodes& nodes, int b,
+                                                        T (*f0)[Basis::n_qp],
+                                                        T (*f1)[Basis::n_qp][3], const Vector& out,
+                                                        bool atomic) {
+  constexpr int W = Nodes::rank == 3 ? static_cast<int>(Nodes::static_extent(2)) : 1;
+  for (int c = 0; c < NC; ++c) {
+    T re[Basis::n_nodes];
+    integrate_value_and_gradient<Basis>(f0[c], f1[c], re);
+    for (int a = 0; a < Basis::n_nodes; ++a)
+      for (int l = 0; l < W; ++l) {
+        const int n = nodes(b, a, l);
+        if (n >= 0) accumulate(atomic, &out(n * NC + c), lane(re[a], l));
+      }
+  }
+}
+
 // The local map of point q of one batch applied to x: y = M x (entries in storage order, the
 // transposed half of a symmetric pattern from the same entries).
 template <class Pattern, class T, class Load>
@@ -163,12 +235,14 @@ KOKKOS_INLINE_FUNCTION void apply_local(const Load& load, int base, const T* x, 
   for (int k = 0; k < NM; ++k) y[k] = 0;
   int e = base;
   BIOFSI_UNROLL
-  for (int k = 0; k < NM; ++k) BIOFSI_UNROLL
-  for (int m = 0; m < NM; ++m) {
-    if (!Pattern::stored(k, m)) continue;
-    const T v = load(e++);
-    y[k] += v * x[m];
-    if (Pattern::symmetric && k != m) y[m] += v * x[k];
+  for (int k = 0; k < NM; ++k) {
+    BIOFSI_UNROLL
+    for (int m = 0; m < NM; ++m) {
+      if (!Pattern::stored(k, m)) continue;
+      const T v = load(e++);
+      y[k] += v * x[m];
+      if (Pattern::symmetric && k != m) y[m] += v * x[k];
+    }
   }
 }
 
@@ -189,11 +263,7 @@ struct StoredApplyLoop {
   KOKKOS_INLINE_FUNCTION void operator()(int i) const {
     const int b = batch_offset + i;
     T de[NC][NN];
-    for (int a = 0; a < NN; ++a)
-      for (int l = 0; l < W; ++l) {
-        const int n = nodes(b, a, l);
-        for (int c = 0; c < NC; ++c) lane(de[c][a], l) = n >= 0 ? du(n * NC + c) : 0.0;
-      }
+    gather_batch<NC>(nodes, b, du, de);
     T x[NQ][NM];
     for (int c = 0; c < NC; ++c) {
       T val[NQ], grad[NQ][3];
@@ -217,15 +287,7 @@ struct StoredApplyLoop {
         for (int d = 0; d < 3; ++d) f1[c][q][d] = y[4 * c + 1 + d];
       }
     }
-    for (int c = 0; c < NC; ++c) {
-      T re[NN];
-      integrate_value_and_gradient<Basis>(f0[c], f1[c], re);
-      for (int a = 0; a < NN; ++a)
-        for (int l = 0; l < W; ++l) {
-          const int n = nodes(b, a, l);
-          if (n >= 0) accumulate(atomic, &out(n * NC + c), lane(re[a], l));
-        }
-    }
+    integrate_and_scatter_batch<Basis, NC>(nodes, b, f0, f1, out, atomic);
   }
 };
 
@@ -301,46 +363,188 @@ struct StoredMatrixLoop {
 
 }  // namespace detail
 
+namespace detail {
+
+// Point states of one lane (element) at the linearisation point, with the geometry.
+template <class Physics, class Basis, int W>
+struct PointStateLoop {
+  using Store = StoredPointStates<Physics, W>;
+  static constexpr int NC = Physics::n_components, NS = Store::n_state, NE = Store::n_entries;
+  static constexpr int NN = Basis::n_nodes, NQ = Basis::n_qp;
+
+  ElementLoop<Physics, Basis> element;
+  ConstIndexView group;
+  int batch_offset;
+  decltype(Store::nodes) nodes;
+  decltype(Store::data) data;
+
+  KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+    const int b = batch_offset + i / W, l = i % W;
+    if (i >= static_cast<int>(group.extent(0))) {
+      for (int a = 0; a < NN; ++a) nodes(b, a, l) = -1;
+      for (int k = 0; k < NQ * NE; ++k) data(b, k, l) = 0;
+      return;
+    }
+    typename ElementLoop<Physics, Basis>::Gathered g;
+    element.gather(group(i), g);
+    for (int a = 0; a < NN; ++a) nodes(b, a, l) = g.node[a];
+    for (int q = 0; q < NQ; ++q) {
+      Real uq[NC], gu[NC][3];
+      for (int c = 0; c < NC; ++c) {
+        uq[c] = g.uq[c][q];
+        for (int d = 0; d < 3; ++d) gu[c][d] = g.gu[c][q][d];
+      }
+      const typename Store::State state = element.physics.point_state(g.qp[q], uq, gu);
+      const Real* v = reinterpret_cast<const Real*>(&state);
+      const int base = q * NE;
+      for (int e = 0; e < NS; ++e) data(b, base + e, l) = v[e];
+      for (int d = 0; d < 3; ++d)
+        for (int c = 0; c < 3; ++c) data(b, base + NS + 3 * d + c, l) = g.geo.inv[q][d][c];
+      data(b, base + NS + 9, l) = g.geo.wdet[q];
+    }
+  }
+};
+
+template <class Physics, class Basis, int W>
+struct PointStateApplyLoop {
+  using Store = StoredPointStates<Physics, W>;
+  using T = SimdValue<W>;
+  using State = typename Physics::template PointState<T>;
+  static constexpr int NC = Physics::n_components, NS = Store::n_state, NE = Store::n_entries;
+  static constexpr int NN = Basis::n_nodes, NQ = Basis::n_qp;
+  static_assert(sizeof(State) == NS * sizeof(T), "PointState must hold T members only");
+
+  decltype(Store::nodes) nodes;
+  decltype(Store::data) data;
+  Physics physics;
+  ConstVector du;
+  Vector out;
+  int batch_offset;
+  bool atomic;
+
+  KOKKOS_INLINE_FUNCTION T load(int b, int e) const {
+    T v;
+    for (int l = 0; l < W; ++l) lane(v, l) = data(b, e, l);
+    return v;
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+    const int b = batch_offset + i;
+    T de[NC][NN];
+    gather_batch<NC>(nodes, b, du, de);
+    T val[NC][NQ], ref[NC][NQ][3];
+    for (int c = 0; c < NC; ++c) interpolate_with_gradient<Basis>(de[c], val[c], ref[c]);
+    T f0[NC][NQ], f1[NC][NQ][3];
+    for (int q = 0; q < NQ; ++q) {
+      const int base = q * NE;
+      State state;
+      T* v = reinterpret_cast<T*>(&state);
+      for (int e = 0; e < NS; ++e) v[e] = load(b, base + e);
+      T inv[3][3];
+      for (int d = 0; d < 3; ++d)
+        for (int c = 0; c < 3; ++c) inv[d][c] = load(b, base + NS + 3 * d + c);
+      const T wdet = load(b, base + NS + 9);
+      T duq[NC], gdu[NC][3], df0[NC], df1[NC][3];
+      for (int c = 0; c < NC; ++c) {
+        duq[c] = val[c][q];
+        for (int k = 0; k < 3; ++k)
+          gdu[c][k] =
+              ref[c][q][0] * inv[0][k] + ref[c][q][1] * inv[1][k] + ref[c][q][2] * inv[2][k];
+      }
+      physics.tangent_at(state, duq, gdu, df0, df1);
+      for (int c = 0; c < NC; ++c) {
+        f0[c][q] = wdet * df0[c];
+        for (int d = 0; d < 3; ++d)
+          f1[c][q][d] =
+              wdet * (inv[d][0] * df1[c][0] + inv[d][1] * df1[c][1] + inv[d][2] * df1[c][2]);
+      }
+    }
+    integrate_and_scatter_batch<Basis, NC>(nodes, b, f0, f1, out, atomic);
+  }
+};
+
+// Batches of `set`'s groups into `store` (its nodes and offsets), re-allocating `values` to
+// n_batches x entries when the size changed; calls fill(group, batch_offset, lanes) per group.
+template <int W, class Values, class Fill>
+void prepare_batches(const ElementGroups& set, int n_nodes, int entries, ElementBatches<W>& store,
+                     Values& values, const Fill& fill) {
+  std::vector<int> offset{0};
+  for (const auto& g : set.groups)
+    offset.push_back(offset.back() + (static_cast<int>(g.extent(0)) + W - 1) / W);
+  const int n = offset.back();
+  if (static_cast<int>(values.extent(0)) != n || static_cast<int>(values.extent(1)) != entries) {
+    store.nodes = decltype(store.nodes)("biofsi::stored_tangent::nodes", n, n_nodes);
+    values = Values(Kokkos::view_alloc(Kokkos::WithoutInitializing, "biofsi::stored_tangent"), n,
+                    entries);
+  }
+  store.group_offset = offset;
+  store.scatter = set.scatter;
+  for (size_t g = 0; g < set.groups.size(); ++g)
+    fill(set.groups[g], offset[g], (offset[g + 1] - offset[g]) * W);
+}
+
+}  // namespace detail
+
 // Linearises `op` at u over the element groups `set` into `store` (re-using its memory when the
 // sizes match): once per Newton iteration, before the Krylov solve.
 template <class Physics, class Basis, int W>
 void linearise(const ElementOperator<Physics, Basis>& op, const ElementGroups& set, ConstVector u,
                StoredTangent<PatternOf<Physics>, W>& store) {
-  using Store = StoredTangent<PatternOf<Physics>, W>;
-  std::vector<int> offset{0};
-  for (const auto& g : set.groups)
-    offset.push_back(offset.back() + (static_cast<int>(g.extent(0)) + W - 1) / W);
-  const int n = offset.back();
-  constexpr int entries = Basis::n_qp * Store::n_entries;
-  if (static_cast<int>(store.matrix.extent(0)) != n) {
-    store.nodes = decltype(store.nodes)("biofsi::stored_tangent::nodes", n, Basis::n_nodes);
-    store.matrix = decltype(store.matrix)(
-        Kokkos::view_alloc(Kokkos::WithoutInitializing, "biofsi::stored_tangent::matrix"), n,
-        entries);
-  }
-  store.group_offset = offset;
-  store.scatter = set.scatter;
-  detail::LineariseLoop<Physics, Basis, W> loop{op.element_loop(u, u, Vector{}), ConstIndexView{},
-                                                0, store.nodes, store.matrix};
-  for (size_t g = 0; g < set.groups.size(); ++g) {
-    loop.group = set.groups[g];
-    loop.batch_offset = offset[g];
-    const int lanes = (offset[g + 1] - offset[g]) * W;
-    Kokkos::parallel_for("biofsi::linearise", Kokkos::RangePolicy<ExecSpace>(0, lanes), loop);
+  detail::LineariseLoop<Physics, Basis, W> loop{
+      op.element_loop(u, u, Vector{}), ConstIndexView{}, 0, {}, {}};
+  detail::prepare_batches(set, Basis::n_nodes, Basis::n_qp * store.n_entries, store, store.matrix,
+                          [&](ConstIndexView group, int offset, int lanes) {
+                            loop.group = group;
+                            loop.batch_offset = offset;
+                            loop.nodes = store.nodes;
+                            loop.matrix = store.matrix;
+                            Kokkos::parallel_for("biofsi::linearise",
+                                                 Kokkos::RangePolicy<ExecSpace>(0, lanes), loop);
+                          });
+}
+
+template <class Physics, class Basis, int W>
+void linearise(const ElementOperator<Physics, Basis>& op, const ElementGroups& set, ConstVector u,
+               StoredPointStates<Physics, W>& store) {
+  store.physics = op.physics();
+  detail::PointStateLoop<Physics, Basis, W> loop{
+      op.element_loop(u, u, Vector{}), ConstIndexView{}, 0, {}, {}};
+  detail::prepare_batches(set, Basis::n_nodes, Basis::n_qp * store.n_entries, store, store.data,
+                          [&](ConstIndexView group, int offset, int lanes) {
+                            loop.group = group;
+                            loop.batch_offset = offset;
+                            loop.nodes = store.nodes;
+                            loop.data = store.data;
+                            Kokkos::parallel_for("biofsi::linearise",
+                                                 Kokkos::RangePolicy<ExecSpace>(0, lanes), loop);
+                          });
+}
+
+namespace detail {
+template <class Loop, int W>
+void run_batches(const char* label, const ElementBatches<W>& store, Loop& loop) {
+  for (size_t g = 0; g + 1 < store.group_offset.size(); ++g) {
+    loop.batch_offset = store.group_offset[g];
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(0, store.group_offset[g + 1] - store.group_offset[g]),
+        loop);
   }
 }
+}  // namespace detail
 
 // y += J du with the stored tangent.
 template <class Basis = Hex8, class Pattern, int W>
 void apply_stored(const StoredTangent<Pattern, W>& store, ConstVector du, Vector y) {
   detail::StoredApplyLoop<Pattern, Basis, W> loop{
       store.nodes, store.matrix, du, y, 0, store.scatter == Scatter::Atomic};
-  for (size_t g = 0; g + 1 < store.group_offset.size(); ++g) {
-    loop.batch_offset = store.group_offset[g];
-    Kokkos::parallel_for(
-        "biofsi::apply_stored",
-        Kokkos::RangePolicy<ExecSpace>(0, store.group_offset[g + 1] - store.group_offset[g]), loop);
-  }
+  detail::run_batches("biofsi::apply_stored", store, loop);
+}
+
+template <class Basis = Hex8, class Physics, int W>
+void apply_stored(const StoredPointStates<Physics, W>& store, ConstVector du, Vector y) {
+  detail::PointStateApplyLoop<Physics, Basis, W> loop{
+      store.nodes, store.data, store.physics, du, y, 0, store.scatter == Scatter::Atomic};
+  detail::run_batches("biofsi::apply_point_states", store, loop);
 }
 
 namespace detail {
@@ -370,9 +574,14 @@ void assemble_stored(const StoredTangent<Pattern, W>& store, const CsrMatrix& a)
 
 // A stored tangent with the state it was taken at, for the terms a field still applies on the fly
 // at that state (boundary faces, couplings).
+// The store a field uses: point states where the Physics declares them, the map otherwise.
+template <class Physics, int W = simd_width>
+using FieldStoreOf = std::conditional_t<detail::HasPointState<Physics>::value,
+                                        StoredPointStates<Physics, W>, StoredTangentOf<Physics, W>>;
+
 template <class Physics, int W = simd_width>
 struct Linearisation {
-  StoredTangentOf<Physics, W> tangent;
+  FieldStoreOf<Physics, W> tangent;
   Vector point;
 
   template <class Basis>

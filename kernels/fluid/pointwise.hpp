@@ -148,52 +148,77 @@ struct FluidPhysics {
     for (int j = 0; j < 3; ++j) f1[3][j] = l.tau.m * r[j] / density;
   }
 
-  // du is the variation of u at t_{n+1}; the state at t_{n+theta} varies by theta du.
-  KOKKOS_INLINE_FUNCTION void tangent(const QpData<n_aux>& q, const Real u[4], const Real gu[4][3],
-                                      const Real du[4], const Real gdu[4][3], Real df0[4],
-                                      Real df1[4][3]) const {
+  // What the tangent needs of the linearisation point, per point: the convective velocity, the
+  // velocity gradient and the momentum residual (for the Newton terms; zero for Picard), tau_M,
+  // tau_C, their derivatives along the convective velocity (zero unless Full) and div u. All
+  // members are T, so that a stored tangent can keep it as a row of doubles
+  // (kernels/core/stored_tangent.hpp).
+  template <class T>
+  struct PointState {
+    T c[3], gu[3][3], r[3], tau_m, tau_c, d_m[3], d_c[3], div;
+  };
+
+  KOKKOS_INLINE_FUNCTION PointState<Real> point_state(const QpData<n_aux>& q, const Real u[4],
+                                                      const Real gu[4][3]) const {
     const Local l = local(q, u, gu);
     const bool newton = linearisation != FluidLinearisation::Picard;
     const bool full = linearisation == FluidLinearisation::Full;
-    Real dr[3], r[3] = {0, 0, 0};
-    if (newton) {
-      Real m[3];
-      momentum(q, l, u, m);
-      for (int i = 0; i < 3; ++i) r[i] = m[i] + gu[3][i];
+    PointState<Real> s;
+    Real m[3];
+    momentum(q, l, u, m);
+    for (int i = 0; i < 3; ++i) {
+      s.c[i] = l.c[i];
+      s.r[i] = newton ? m[i] + gu[3][i] : 0.0;
+      for (int j = 0; j < 3; ++j) s.gu[i][j] = newton ? l.gu[i][j] : 0.0;
+      s.d_m[i] = full ? l.tau.d_m[i] : 0.0;
+      s.d_c[i] = full ? l.tau.d_c[i] : 0.0;
     }
-    Real dut[3], gdut[3][3];
+    s.tau_m = l.tau.m;
+    s.tau_c = l.tau.c;
+    s.div = divergence(l.gu);
+    return s;
+  }
+
+  // The tangent at a point from its state; du is the variation of u at t_{n+1}, the state at
+  // t_{n+theta} varies by theta du. T is Real or a SIMD pack of points.
+  template <class T>
+  KOKKOS_INLINE_FUNCTION void tangent_at(const PointState<T>& s, const T du[4], const T gdu[4][3],
+                                         T df0[4], T df1[4][3]) const {
+    T dut[3], gdut[3][3];
     for (int i = 0; i < 3; ++i) {
       dut[i] = theta * du[i];
       for (int j = 0; j < 3; ++j) gdut[i][j] = theta * gdu[i][j];
     }
-    // Variations of tau along dc = theta du (velocity part), Full only.
-    Real dtm = 0, dtc = 0;
-    if (full)
-      for (int i = 0; i < 3; ++i) {
-        dtm += l.tau.d_m[i] * dut[i];
-        dtc += l.tau.d_c[i] * dut[i];
-      }
+    // Variations of tau along dc = theta du (velocity part), Full only (else d_m = d_c = 0).
+    T dtm = 0, dtc = 0;
     for (int i = 0; i < 3; ++i) {
-      Real dconv = 0;
-      for (int j = 0; j < 3; ++j)
-        dconv += l.c[j] * gdut[i][j] + (newton ? dut[j] * l.gu[i][j] : 0.0);
+      dtm += s.d_m[i] * dut[i];
+      dtc += s.d_c[i] * dut[i];
+    }
+    T dr[3];
+    for (int i = 0; i < 3; ++i) {
+      T dconv = 0;
+      for (int j = 0; j < 3; ++j) dconv += s.c[j] * gdut[i][j] + dut[j] * s.gu[i][j];
       df0[i] = density * (du[i] * inv_dt + dconv);
       dr[i] = df0[i] + gdu[3][i];
     }
-    const Real div = divergence(l.gu);
-    const Real ddiv = divergence(gdut);
-    const Real s = symmetric_viscous ? 1.0 : 0.0;
+    const T ddiv = gdut[0][0] + gdut[1][1] + gdut[2][2];
+    const Real sym = symmetric_viscous ? 1.0 : 0.0;
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
-        df1[i][j] = viscosity * (gdut[i][j] + s * gdut[j][i]);
-        if (supg)
-          df1[i][j] +=
-              l.tau.m * (l.c[j] * dr[i] + (newton ? dut[j] * r[i] : 0.0)) + dtm * l.c[j] * r[i];
+        df1[i][j] = viscosity * (gdut[i][j] + sym * gdut[j][i]);
+        if (supg) df1[i][j] += s.tau_m * (s.c[j] * dr[i] + dut[j] * s.r[i]) + dtm * s.c[j] * s.r[i];
       }
-      df1[i][i] += density * (l.tau.c * ddiv + dtc * div) - du[3];
+      df1[i][i] += density * (s.tau_c * ddiv + dtc * s.div) - du[3];
     }
     df0[3] = ddiv;
-    for (int j = 0; j < 3; ++j) df1[3][j] = (l.tau.m * dr[j] + dtm * r[j]) / density;
+    for (int j = 0; j < 3; ++j) df1[3][j] = (s.tau_m * dr[j] + dtm * s.r[j]) / density;
+  }
+
+  KOKKOS_INLINE_FUNCTION void tangent(const QpData<n_aux>& q, const Real u[4], const Real gu[4][3],
+                                      const Real du[4], const Real gdu[4][3], Real df0[4],
+                                      Real df1[4][3]) const {
+    tangent_at(point_state(q, u, gu), du, gdu, df0, df1);
   }
 };
 

@@ -3,7 +3,8 @@
 // SUPG, Monod and a deforming block; the stabilised fluid; St. Venant-Kirchhoff and Neo-Hooke
 // structures; pseudo-elastic mesh motion with stiffening), on a distorted two-block mesh, with
 // both scatter policies and both storage widths (SIMD batches of simd_width elements, and one
-// element per batch as on a GPU): apply, diagonal and assembled matrix.
+// element per batch as on a GPU): apply, diagonal and assembled matrix; and the fluid's point-state
+// store (its tangent re-evaluated from a stored per-point state) for every linearisation.
 //
 // Tolerance 1e-12 relative to the largest entry: the stored and the on-the-fly products evaluate
 // the same sums in another order (the inverse Jacobian folded into the stored matrix instead of
@@ -124,6 +125,28 @@ Defects stored_defects(const SmallMesh& m, const ElementOperator<Physics>& op, C
   return d;
 }
 
+// The point-state store (the fluid's): its apply against the on-the-fly apply and the assembled
+// matrix.
+template <int W, class Physics>
+Defects point_state_defects(const SmallMesh& m, const ElementOperator<Physics>& op, ConstVector u,
+                            ConstVector du, Scatter scatter) {
+  constexpr int NC = Physics::n_components;
+  const int n = NC * m.n_nodes();
+  const ElementGroups groups = element_groups(m, scatter);
+  StoredPointStates<Physics, W> store;
+  linearise(op, groups, u, store);
+  Defects d;
+  Vector y_fly("test::y_fly", n), y_stored("test::y_stored", n), y_matrix("test::y_matrix", n);
+  op.apply_tangent(groups, u, du, y_fly);
+  apply_stored(store, du, y_stored);
+  d.apply_vs_on_the_fly = relative_difference(y_stored, y_fly);
+  const CsrMatrix a = block_pattern(m, NC);
+  op.assemble(groups, u, a);
+  csr_multiply(a, du, y_matrix);
+  d.apply_vs_matrix = relative_difference(y_stored, y_matrix);
+  return d;
+}
+
 template <class Physics>
 void expect_stored_equals_on_the_fly(const SmallMesh& m, const ElementOperator<Physics>& op,
                                      ConstVector u, ConstVector du) {
@@ -195,7 +218,41 @@ TEST(StoredTangent, FluidEqualsOnTheFlyAndAssembled) {
         return c < 3 ? std::cos(2 * x + c) * std::sin(1 + y + 0.5 * z) : x * y - z;
       },
       "test::u");
-  expect_stored_equals_on_the_fly(m, op, u, direction(m, 4));
+  const Vector du = direction(m, 4);
+  expect_stored_equals_on_the_fly(m, op, u, du);
+  for (Scatter scatter : {Scatter::Atomic, Scatter::Colored})
+    for (const Defects& d : {point_state_defects<simd_width>(m, op, u, du, scatter),
+                             point_state_defects<1>(m, op, u, du, scatter)}) {
+      EXPECT_LT(d.apply_vs_on_the_fly, 1e-12);
+      EXPECT_LT(d.apply_vs_matrix, 1e-12);
+    }
+}
+
+TEST(StoredTangent, FluidPointStatesEqualOnTheFlyForEveryLinearisation) {
+  const SmallMesh m = distorted_mesh();
+  for (auto lin :
+       {FluidLinearisation::Full, FluidLinearisation::LaggedTau, FluidLinearisation::Picard}) {
+    FluidPhysics p;
+    p.density = 1.3, p.viscosity = 0.02, p.inv_dt = 5.0, p.theta = 0.66;
+    p.linearisation = lin;
+    p.symmetric_viscous = lin != FluidLinearisation::Picard;
+    const NodalView aux =
+        auxiliary(m, FluidPhysics::n_aux, [](int c, double x, double y, double z) {
+          if (c < 3) return 0.5 * std::sin(1.3 * x + c) * std::cos(y - 0.4 * z);
+          if (c < 6) return 0.1 * std::cos(x + 2 * y + c);
+          return 0.3 * (c - 7);
+        });
+    const ElementOperator<FluidPhysics> op(m.conn, m.x, m.block, aux, p);
+    const Vector u = nodal(
+        m, 4,
+        [](int c, double x, double y, double z) {
+          return c < 3 ? std::cos(2 * x + c) * std::sin(1 + y + 0.5 * z) : x * y - z;
+        },
+        "test::u");
+    const Defects d = point_state_defects<simd_width>(m, op, u, direction(m, 4), Scatter::Colored);
+    EXPECT_LT(d.apply_vs_on_the_fly, 1e-12);
+    EXPECT_LT(d.apply_vs_matrix, 1e-12);
+  }
 }
 
 TEST(StoredTangent, StructureEqualsOnTheFlyAndAssembled) {
