@@ -82,11 +82,6 @@ KOKKOS_INLINE_FUNCTION Pack<W> operator/(Pack<W> a, Real s) {
   for (int i = 0; i < W; ++i) a.v[i] /= s;
   return a;
 }
-template <int W>
-KOKKOS_INLINE_FUNCTION Pack<W> operator-(Pack<W> a) {
-  for (int i = 0; i < W; ++i) a.v[i] = -a.v[i];
-  return a;
-}
 
 // The value type of a batch of W elements.
 template <int W>

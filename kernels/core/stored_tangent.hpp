@@ -42,7 +42,7 @@ namespace biofsi {
 template <int NC, bool Symmetric = false, bool Coupled = true>
 struct TangentPattern {
   static constexpr int n_local = 4 * NC;  // value and 3 reference gradients per component
-  static constexpr bool symmetric = Symmetric, coupled = Coupled;
+  static constexpr bool symmetric = Symmetric;
   KOKKOS_INLINE_FUNCTION static constexpr bool stored(int k, int l) {
     return (!Symmetric || k <= l) && (Coupled || (k % 4 == 0) == (l % 4 == 0));
   }
@@ -87,13 +87,11 @@ struct ElementBatches {
   Scatter scatter = Scatter::Atomic;
   // Lexicographic node ids of each batch's lanes; -1 in the padding lanes of a group's last batch.
   Kokkos::View<int** [W], Layout, MemSpace> nodes;
-
-  int n_batches() const { return group_offset.empty() ? 0 : group_offset.back(); }
 };
 
 template <class Pattern, int W = simd_width>
 struct StoredTangent : ElementBatches<W> {
-  static constexpr int n_local = Pattern::n_local, n_entries = Pattern::n_entries, width = W;
+  static constexpr int n_local = Pattern::n_local, n_entries = Pattern::n_entries;
   // Per batch, point q and stored entry e (row-major over the pattern's stored (k, l)):
   // matrix(batch, q n_entries + e, lane).
   Kokkos::View<Real** [W], typename ElementBatches<W>::Layout, MemSpace> matrix;
