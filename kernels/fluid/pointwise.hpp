@@ -85,8 +85,10 @@ KOKKOS_INLINE_FUNCTION FluidTau fluid_tau(const Real c[3], const Real metric[3][
 // Element physics. Auxiliary nodal data: [u_n (3), u_grid (3), b (3)]; only u_n needs gradients.
 struct FluidPhysics {
   static constexpr int n_components = 4, n_aux = 9, n_aux_gradients = 3;
-  Real density = 1, viscosity = 1e-3;  // rho, dynamic viscosity mu
-  Real inv_dt = 0;                     // 0: steady
+  // First columns of the auxiliary vectors (host code fills them by these names).
+  static constexpr int aux_velocity_old = 0, aux_grid_velocity = 3, aux_body_force = 6;
+  Real density = 0, viscosity = 0;  // rho, dynamic mu: FluidSettings (src/fluid) holds the defaults
+  Real inv_dt = 0;                  // 0: steady
   Real theta = 1;
   bool supg = true, grad_div = true;  // PSPG is always on: Q1-Q1 needs it
   bool symmetric_viscous = true;
@@ -103,9 +105,9 @@ struct FluidPhysics {
                                      const Real gu[4][3]) const {
     Local l;
     for (int i = 0; i < 3; ++i) {
-      l.u[i] = theta * u[i] + (1 - theta) * q.aux[i];
+      l.u[i] = theta * u[i] + (1 - theta) * q.aux[aux_velocity_old + i];
       for (int j = 0; j < 3; ++j) l.gu[i][j] = theta * gu[i][j] + (1 - theta) * q.grad_aux[i][j];
-      l.c[i] = l.u[i] - q.aux[3 + i];
+      l.c[i] = l.u[i] - q.aux[aux_grid_velocity + i];
     }
     l.tau = fluid_tau(l.c, q.metric, viscosity / density, transient_tau ? inv_dt : Real(0));
     if (!grad_div) {
@@ -121,7 +123,8 @@ struct FluidPhysics {
     for (int i = 0; i < 3; ++i) {
       Real conv = 0;
       for (int j = 0; j < 3; ++j) conv += l.c[j] * l.gu[i][j];
-      m[i] = density * ((u[i] - q.aux[i]) * inv_dt + conv - q.aux[6 + i]);
+      m[i] = density *
+             ((u[i] - q.aux[aux_velocity_old + i]) * inv_dt + conv - q.aux[aux_body_force + i]);
     }
   }
 

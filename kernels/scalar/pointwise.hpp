@@ -77,6 +77,9 @@ KOKKOS_INLINE_FUNCTION Real supg_tau(const Real c[3], const Real metric[3][3], R
 // material velocity w need gradients.
 struct TransportPhysics {
   static constexpr int n_components = 1, n_aux = 8, n_aux_gradients = 4;
+  // Columns of the auxiliary data (host code fills them by these names).
+  static constexpr int aux_phi_old = 0, aux_material_velocity = 1, aux_convective_velocity = 4,
+                       aux_source = 7;
   TransportCoefficients coef;
   Real inv_dt = 0;  // 0: steady
   Real theta = 1;
@@ -91,10 +94,11 @@ struct TransportPhysics {
     l.D = coef.diffusivity[q.block];
     l.k = coef.monod_rate[q.block];
     l.K = coef.monod_half_saturation[q.block];
-    for (int i = 0; i < 3; ++i) l.c[i] = q.aux[4 + i];
+    for (int i = 0; i < 3; ++i) l.c[i] = q.aux[aux_convective_velocity + i];
     l.tau = supg ? supg_tau(l.c, q.metric, l.D, inv_dt) : 0.0;
-    l.div_w =
-        coef.material_motion[q.block] * (q.grad_aux[1][0] + q.grad_aux[2][1] + q.grad_aux[3][2]);
+    const auto& gw = q.grad_aux;
+    constexpr int w = aux_material_velocity;
+    l.div_w = coef.material_motion[q.block] * (gw[w][0] + gw[w + 1][1] + gw[w + 2][2]);
     return l;
   }
 
@@ -108,15 +112,15 @@ struct TransportPhysics {
   KOKKOS_INLINE_FUNCTION void residual(const QpData<n_aux>& q, const Real u[1], const Real gu[1][3],
                                        Real f0[1], Real f1[1][3]) const {
     const Local l = local(q);
-    const Real phi_n = q.aux[0];
-    const Real* g_n = q.grad_aux[0];
+    const Real phi_n = q.aux[aux_phi_old];
+    const Real* g_n = q.grad_aux[aux_phi_old];
     Real conv = 0, conv_n = 0;
     for (int i = 0; i < 3; ++i) {
       conv += l.c[i] * gu[0][i];
       conv_n += l.c[i] * g_n[i];
     }
     f0[0] = (u[0] - phi_n) * inv_dt + theta * (conv + reaction(l, u[0])) +
-            (1 - theta) * (conv_n + reaction(l, phi_n)) - q.aux[7] +
+            (1 - theta) * (conv_n + reaction(l, phi_n)) - q.aux[aux_source] +
             (theta * u[0] + (1 - theta) * phi_n) * l.div_w;
     for (int i = 0; i < 3; ++i)
       f1[0][i] = l.D * (theta * gu[0][i] + (1 - theta) * g_n[i]) + l.tau * l.c[i] * f0[0];
@@ -140,15 +144,16 @@ struct TransportPhysics {
 // Auxiliary nodal data on the faces: [phi_n, h, alpha, phi_inf].
 struct TransportBoundaryPhysics {
   static constexpr int n_components = 1, n_aux = 4;
+  static constexpr int aux_phi_old = 0, aux_flux = 1, aux_coefficient = 2, aux_ambient = 3;
   Real theta = 1;
 
   KOKKOS_INLINE_FUNCTION void residual(const Real aux[4], const Real u[1], Real f0[1]) const {
-    const Real phi_theta = theta * u[0] + (1 - theta) * aux[0];
-    f0[0] = -(aux[1] + aux[2] * (aux[3] - phi_theta));
+    const Real phi_theta = theta * u[0] + (1 - theta) * aux[aux_phi_old];
+    f0[0] = -(aux[aux_flux] + aux[aux_coefficient] * (aux[aux_ambient] - phi_theta));
   }
   KOKKOS_INLINE_FUNCTION void tangent(const Real aux[4], const Real[1], const Real du[1],
                                       Real df0[1]) const {
-    df0[0] = aux[2] * theta * du[0];
+    df0[0] = aux[aux_coefficient] * theta * du[0];
   }
 };
 

@@ -247,6 +247,10 @@ KOKKOS_INLINE_FUNCTION Real von_mises(const Real s[3][3]) {
 // Auxiliary nodal data: [d_n (3), v_n (3), b (3)]; only d_n needs a gradient.
 struct StructurePhysics {
   static constexpr int n_components = 3, n_aux = 9, n_aux_gradients = 3;
+  // First columns of the auxiliary vectors (host code fills them by these names); the gradient
+  // of d_n is grad_aux[0..2] (n_aux_gradients = 3 takes the first three columns).
+  static constexpr int aux_displacement_old = 0, aux_velocity_old = 3, aux_body_force = 6;
+  static_assert(aux_displacement_old == 0, "grad_aux holds the gradient of the first columns");
   // Hyperelastic: dP/dF has major symmetry, the mass term is diagonal, and neither couples
   // displacement values to gradients (the stored tangent keeps only what that leaves).
   static constexpr bool tangent_symmetric = true, tangent_couples_values_and_gradients = false;
@@ -274,8 +278,8 @@ struct StructurePhysics {
         for (int j = 0; j < 3; ++j) f1[i][j] = theta * f1[i][j] + (1.0 - theta) * pn[i][j];
     }
     for (int i = 0; i < 3; ++i)
-      f0[i] = rho * mass_coefficient * (u[i] - dt * q.aux[3 + i]) - q.aux[6 + i] -
-              rho * materials.gravity[q.block][i];
+      f0[i] = rho * mass_coefficient * (u[i] - dt * q.aux[aux_velocity_old + i]) -
+              q.aux[aux_body_force + i] - rho * materials.gravity[q.block][i];
   }
 
   KOKKOS_INLINE_FUNCTION void tangent(const QpData<9>& q, const Real[3], const Real gu[3][3],

@@ -2,7 +2,8 @@
 // follows the interface, and in a growth step the biofilm mesh takes the grown interface as its
 // new reference. Matrix-free operator from kernels/ale, CG with systems BoomerAMG on the assembled
 // matrix. Also the mesh-quality check that stops a run before an inverted element is used.
-// What it may include: kernels/, src/mesh, src/solvers. src/growth and the driver depend on it.
+// What it may include: kernels/, src/mesh, src/solvers (and src/io's reader helpers in
+// parameters.hpp, its scene section). src/growth, src/coupling and the driver depend on it.
 #pragma once
 
 #include <map>
@@ -19,6 +20,10 @@ namespace biofsi {
 struct MeshMotionSettings {
   double poisson_ratio = 0.3;  // of the pseudo-material, in [0, 0.5)
   double stiffening = 1.0;     // chi in (1/det J)^chi, >= 0
+  // Face sets on which mesh nodes slide (normal displacement zero) and sets held fixed.
+  std::vector<std::string> sliding_walls = {"left", "right", "front", "back"};
+  std::vector<std::string> fixed_walls = {"bottom", "top"};
+  double min_quality = 0.02;  // smallest scaled Jacobian accepted after a move, in (0, 1)
   KrylovOptions krylov{1e-10, 0.0, 500, 50};
   Scatter scatter = Scatter::Colored;
 };

@@ -29,135 +29,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-SpaceTimeFunction to_function(const std::string& text) {
-  auto e = std::make_shared<Expression>(text);
-  return [e](const Point& x, double t) { return (*e)(x[0], x[1], x[2], t); };
-}
-
-TransportSettings transport_settings(const Scene& scene, const Mesh& mesh) {
-  TransportSettings s;
-  for (size_t b = 0; b < mesh.block_names.size(); ++b) {
-    const MaterialSpec& m = scene.materials.at(mesh.block_names[b]);
-    s.coefficients.diffusivity[b] = m.diffusivity;
-    s.coefficients.monod_rate[b] = m.monod_rate;
-    s.coefficients.monod_half_saturation[b] = m.monod_half_saturation;
-    const auto& sb = scene.structure.blocks;
-    if (scene.structure.enabled && std::find(sb.begin(), sb.end(), mesh.block_names[b]) != sb.end())
-      s.coefficients.material_motion[b] = 1;  // the deforming biofilm: Phi div u_S (eq. 9)
-  }
-  s.supg = scene.scalar.supg;
-  s.theta = scene.time.mode == TimeMode::Steady ? 1.0 : scene.time.theta;
-  s.scatter = scene.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
-  s.newton.rel_tol = scene.solver.newton_rel_tol;
-  s.newton.abs_tol = scene.solver.newton_abs_tol;
-  s.newton.max_iterations = scene.solver.newton_max_iterations;
-  s.newton.krylov.max_iterations = scene.solver.linear_max_iterations;
-  s.newton.krylov.restart = scene.solver.linear_restart;
-  s.newton.eta_max = std::max(scene.solver.linear_rel_tol, s.newton.eta_min);
-  return s;
-}
-
-std::vector<ScalarBoundaryCondition> transport_conditions(const Scene& scene) {
-  std::vector<ScalarBoundaryCondition> out;
-  for (const auto& bc : scene.scalar.boundary_conditions) {
-    ScalarBoundaryCondition c;
-    c.set = bc.boundary;
-    c.kind = bc.type == BcType::Dirichlet ? ScalarBcKind::Dirichlet
-             : bc.type == BcType::Neumann ? ScalarBcKind::Flux
-                                          : ScalarBcKind::Robin;
-    c.value = to_function(bc.value);
-    c.coefficient = bc.coefficient;
-    out.push_back(std::move(c));
-  }
-  return out;
-}
-
-FluidSettings fluid_settings(const Scene& scene) {
-  const FluidFieldSpec& f = scene.fluid;
-  FluidSettings s;
-  s.density = f.density;
-  s.viscosity = f.viscosity;
-  s.theta = scene.time.theta;
-  s.supg = f.supg;
-  s.grad_div = f.grad_div;
-  s.transient_tau = f.transient_tau;
-  s.pseudo_2d = f.pseudo_2d;
-  s.blocks = f.blocks;
-  s.symmetric_viscous = f.symmetric_viscous;
-  s.preconditioner = f.preconditioner == "simple"    ? FluidPreconditioner::Simple
-                     : f.preconditioner == "simplec" ? FluidPreconditioner::SimpleC
-                                                     : FluidPreconditioner::MonolithicAmg;
-  s.scatter = scene.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
-  s.newton_options.max_iterations =
-      std::max(s.newton_options.max_iterations, scene.solver.newton_max_iterations);
-  return s;
-}
-
-std::vector<FluidBoundaryCondition> fluid_conditions(const Scene& scene) {
-  std::vector<FluidBoundaryCondition> out;
-  for (const auto& bc : scene.fluid.boundary_conditions) {
-    if (bc.type == "velocity")
-      out.push_back(fluid_velocity(bc.boundary, to_function(bc.value[0]), to_function(bc.value[1]),
-                                   to_function(bc.value[2])));
-    else if (bc.type == "no_slip")
-      out.push_back(fluid_no_slip(bc.boundary));
-    else if (bc.type == "slip")
-      out.push_back(fluid_slip(bc.boundary));
-    else if (bc.type == "pressure")
-      out.push_back(fluid_pressure(bc.boundary, to_function(bc.value[0])));
-    else
-      out.push_back(fluid_do_nothing(bc.boundary));
-  }
-  return out;
-}
-
-StructureSettings structure_settings(const Scene& scene, const Mesh& mesh) {
-  StructureSettings s;
-  for (const auto& name : mesh.block_names) {
-    const MaterialSpec& m = scene.materials.at(name);
-    s.materials.push_back(m.elastic ? StructureMaterial::from_young(
-                                          m.model == "neo_hooke" ? NeoHooke : SaintVenantKirchhoff,
-                                          m.youngs_modulus, m.poisson_ratio, m.density)
-                                    : StructureMaterial{});  // not a structure block: unused
-  }
-  s.blocks = scene.structure.blocks;
-  s.quasi_static = scene.structure.mode == "quasi_static";
-  s.theta = scene.time.theta;
-  s.plane_strain = scene.structure.plane_strain;
-  s.scatter = scene.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
-  return s;
-}
-
-std::vector<StructureDirichlet> structure_conditions(const Scene& scene) {
-  std::vector<StructureDirichlet> out;
-  for (const auto& bc : scene.structure.boundary_conditions) {
-    StructureDirichlet d;
-    d.set = bc.boundary;
-    for (int c = 0; c < 3; ++c)
-      if (bc.type == "fixed")
-        d.value[c] = [](const Point&, double) { return 0.0; };
-      else if (bc.value[c] != "free")
-        d.value[c] = to_function(bc.value[c]);
-    out.push_back(std::move(d));
-  }
-  return out;
-}
-
-FsiSettings fsi_settings(const Scene& scene) {
-  FsiSettings s;
-  s.interface = scene.fsi.interface;
-  s.mesh_motion.poisson_ratio = scene.mesh_motion.poisson_ratio;
-  s.mesh_motion.stiffening = scene.mesh_motion.stiffening;
-  s.mesh_motion.scatter = scene.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
-  s.fixed_walls = scene.fsi.fixed_walls;
-  s.sliding_walls = scene.fsi.sliding_walls;
-  s.shape_derivatives = scene.fsi.shape_derivatives == "none" ? ShapeDerivatives::None
-                                                              : ShapeDerivatives::FiniteDifference;
-  s.rel_tol = scene.fsi.rel_tol;
-  s.max_iterations = scene.fsi.max_iterations;
-  return s;
-}
-
 // Terminal: one updating line. Otherwise: a plain log line at most every few seconds.
 class Progress {
  public:
@@ -194,10 +65,13 @@ void print_active_fields(const Scene& scene) {
             << "\n"
             << "  fluid:     "
             << (scene.fluid.enabled
-                    ? "on (" + scene.fluid.mode + " incompressible Navier-Stokes on blocks " +
+                    ? "on (" +
+                          std::string(scene.fluid.mode == FlowMode::Steady ? "steady"
+                                                                           : "transient") +
+                          " incompressible Navier-Stokes on blocks " +
                           [&] {
                             std::string b;
-                            for (const auto& n : scene.fluid.blocks)
+                            for (const auto& n : scene.fluid.settings.blocks)
                               b += (b.empty() ? "" : ", ") + n;
                             return b;
                           }() +
@@ -205,7 +79,7 @@ void print_active_fields(const Scene& scene) {
                           (scene.structure.enabled ? std::string("elastic")
                                                    : std::string("held at rest")) +
                           "; convects the scalar" +
-                          (scene.growth.enabled && scene.growth.k2 > 0
+                          (scene.growth.enabled && scene.growth.settings.k2 > 0
                                ? ", wall shear erodes the biofilm)"
                                : ")")
                     : std::string("off (the scene has no fields.fluid section)"))
@@ -213,12 +87,12 @@ void print_active_fields(const Scene& scene) {
             << "  structure: "
             << (scene.structure.enabled
                     ? "on (" +
-                          std::string(scene.structure.mode == "quasi_static" ? "quasi-static"
-                                                                             : "dynamic") +
+                          std::string(scene.structure.settings.quasi_static ? "quasi-static"
+                                                                            : "dynamic") +
                           " finite-strain elasticity on blocks " +
                           [&] {
                             std::string b;
-                            for (const auto& n : scene.structure.blocks)
+                            for (const auto& n : scene.structure.settings.blocks)
                               b += (b.empty() ? "" : ", ") + n;
                             return b;
                           }() +
@@ -230,8 +104,8 @@ void print_active_fields(const Scene& scene) {
             << "  growth:    "
             << (scene.growth.enabled
                     ? "on (" + std::to_string(scene.growth.steps) + " growth steps of " +
-                          std::to_string(scene.growth.dt_bio) + " ms, interface '" +
-                          scene.growth.interface + "')"
+                          std::to_string(scene.growth.settings.dt_bio) + " ms, interface '" +
+                          scene.growth.settings.interface_set + "')"
                     : std::string("off (the scene has no growth section, or it is disabled)"))
             << "\n";
   if (scene.growth.enabled)
@@ -291,21 +165,22 @@ class Driver {
       : scene_(scene),
         out_(out),
         mesh_(make_scene_mesh(scene)),
-        field_(mesh_, transport_settings(scene, mesh_), transport_conditions(scene)),
+        field_(mesh_, scene.scalar.settings, scalar_boundary_conditions(scene.scalar)),
         writer_(out.string(), "scalar", overwrite),
         start_(Clock::now()) {
     if (scene.fluid.enabled)
-      fluid_ = std::make_unique<FluidField>(mesh_, fluid_settings(scene), fluid_conditions(scene));
+      fluid_ = std::make_unique<FluidField>(mesh_, scene.fluid.settings,
+                                            fluid_boundary_conditions(scene.fluid));
     if (scene.structure.enabled) {
-      structure_ = std::make_unique<StructureField>(mesh_, structure_settings(scene, mesh_),
-                                                    structure_conditions(scene));
-      fsi_ = std::make_unique<FsiProblem>(mesh_, *fluid_, *structure_, fsi_settings(scene));
+      structure_ = std::make_unique<StructureField>(mesh_, scene.structure.settings,
+                                                    structure_boundary_conditions(scene.structure));
+      fsi_ = std::make_unique<FsiProblem>(mesh_, *fluid_, *structure_, scene.fsi);
     }
     std::cout << "mesh: " << mesh_.n_nodes() << " nodes, " << mesh_.n_elements()
               << " hex8 elements, " << mesh_.block_names.size() << " blocks\n";
-    field_.set_initial(to_function(scene.scalar.initial), 0.0);
+    field_.set_initial(space_time_function(scene.scalar.initial), 0.0);
     std::array<SpaceTimeFunction, 3> v;
-    for (int d = 0; d < 3; ++d) v[d] = to_function(scene.scalar.velocity[d]);
+    for (int d = 0; d < 3; ++d) v[d] = space_time_function(scene.scalar.velocity[d]);
     std::vector<Point> c(mesh_.n_nodes());
     for (int n = 0; n < mesh_.n_nodes(); ++n)
       for (int d = 0; d < 3; ++d) c[n][d] = v[d](mesh_.x[n], 0.0);
@@ -317,7 +192,7 @@ class Driver {
     write(0, 0.0, {});
     int step = 0;
     try {
-      if (scene_.fluid.mode == "steady") {
+      if (scene_.fluid.mode == FlowMode::Steady) {
         solve_steady_flow("steady flow");
         step = 1;
         write(step, fluid_->time(), {});
@@ -346,7 +221,7 @@ class Driver {
   int run_transport() {
     int step = 0;
     try {
-      if (fluid_ && scene_.fluid.mode == "steady") solve_steady_flow("steady flow");
+      if (fluid_ && scene_.fluid.mode == FlowMode::Steady) solve_steady_flow("steady flow");
       write(0, 0.0, {});
       if (scene_.time.mode == TimeMode::Steady) {
         const NewtonResult r = field_.solve_steady("steady solve");
@@ -374,45 +249,34 @@ class Driver {
   }
 
   int run_growth(const std::string& restart) {
-    const GrowthSpec& g = scene_.growth;
+    const GrowthSection& g = scene_.growth;
+    const GrowthSettings& gs = g.settings;
     const int biofilm = mesh_.block_index(g.biofilm_block);
-    GrowthSettings gs;
-    gs.interface_set = g.interface;
-    gs.k1 = g.k1;
-    gs.k2 = g.k2;
-    gs.dt_bio = g.dt_bio;
-    gs.sliding_walls = scene_.mesh_motion.sliding_walls;
-    gs.fixed_walls = scene_.mesh_motion.fixed_walls;
-    gs.min_quality = scene_.mesh_motion.min_quality;
-    MeshMotionSettings ms;
-    ms.poisson_ratio = scene_.mesh_motion.poisson_ratio;
-    ms.stiffening = scene_.mesh_motion.stiffening;
-    ms.scatter = scene_.solver.scatter == "atomic" ? Scatter::Atomic : Scatter::Colored;
-    MeshMotion motion(mesh_, ms);
+    MeshMotion motion(mesh_, gs.mesh_motion);
 
     int first = 0;
     if (!restart.empty()) first = read_checkpoint(restart);
     note_quality(mesh_quality_by_block(mesh_));
 
     const std::vector<int> gamma =
-        mesh_.node_sets.at(g.interface);  // a copy: grow() replaces mesh_
+        mesh_.node_sets.at(gs.interface_set);  // a copy: grow() replaces mesh_
     int k = first;
     try {
       for (k = first;; ++k) {
         // Inner loop on the current mesh, from the state the previous growth step left; a steady
         // flow is solved once per mesh (the biological time scale is far slower than the flow's).
-        if (fluid_ && scene_.fluid.mode == "steady")
+        if (fluid_ && scene_.fluid.mode == FlowMode::Steady)
           solve_steady_flow("growth " + std::to_string(k) + ": steady flow");
         std::deque<std::vector<double>> window, shear_window;
         const InnerLoopResult r = inner_loop(
             "growth " + std::to_string(k) + "/" + std::to_string(g.steps) + "  ",
             [&](int i, double change) { progress_line(k, i, change); },
             [&](int) {
-              if (g.averaging != "window") return;
-              window.push_back(field_.boundary_flux(g.interface, biofilm).density);
+              if (g.averaging != GrowthAveraging::Window) return;
+              window.push_back(field_.boundary_flux(gs.interface_set, biofilm).density);
               if (static_cast<int>(window.size()) > g.window) window.pop_front();
               if (!fluid_) return;
-              shear_window.push_back(wall_shear(g.interface));
+              shear_window.push_back(wall_shear(gs.interface_set));
               if (static_cast<int>(shear_window.size()) > g.window) shear_window.pop_front();
             });
         totals_.inner_steps += r.steps;
@@ -421,7 +285,7 @@ class Driver {
         const std::vector<double> shear = growth_shear(shear_window, gamma.size());
         const bool last = k == g.steps;
         if (k % g.output_every == 0 || last)
-          write(k, k * g.dt_bio,
+          write(k, k * gs.dt_bio,
                 {{"flux_density", 1, false, on_nodes(mesh_, gamma, flux)},
                  {"wall_shear_stress", 1, false, on_nodes(mesh_, gamma, shear)}});
         if (last) break;
@@ -449,7 +313,7 @@ class Driver {
         if (g.checkpoint) write_checkpoint(k + 1);
       }
     } catch (const SolveError& e) {
-      return failed(e, k, k * g.dt_bio);
+      return failed(e, k, k * gs.dt_bio);
     }
     if (tty_) std::cout << "\n";
     std::cout << "growth: " << totals_.steps << " growth steps, " << totals_.inner_steps
@@ -501,13 +365,13 @@ class Driver {
     const auto q = mesh_quality_by_block(current);
     for (size_t b = 0; b < q.size(); ++b) {
       totals_.min_deformed_quality = std::min(totals_.min_deformed_quality, q[b].min);
-      if (q[b].min < scene_.mesh_motion.min_quality) {
+      if (q[b].min < scene_.fsi.mesh_motion.min_quality) {
         std::ostringstream why;
         why << "element " << q[b].worst_element << " of block '" << mesh_.block_names[b]
             << "' has scaled Jacobian " << q[b].min
             << (q[b].min <= 0 ? " (inverted)" : " (degenerate)")
             << " in the deformed configuration, below mesh_motion.min_quality "
-            << scene_.mesh_motion.min_quality;
+            << scene_.fsi.mesh_motion.min_quality;
         throw SolveError("fsi", label, why.str());
       }
     }
@@ -525,7 +389,7 @@ class Driver {
   // sigma at the interface nodes: the flow's at the end of the inner loop, or the window average.
   std::vector<double> growth_shear(const std::deque<std::vector<double>>& window, size_t n) const {
     if (!fluid_) return std::vector<double>(n, 0.0);
-    if (window.empty()) return wall_shear(scene_.growth.interface);
+    if (window.empty()) return wall_shear(scene_.growth.settings.interface_set);
     std::vector<double> avg(window.front().size(), 0.0);
     for (const auto& w : window)
       for (size_t i = 0; i < avg.size(); ++i) avg[i] += w[i] / window.size();
@@ -535,7 +399,8 @@ class Driver {
   // J at the interface nodes: the stationary inner solution's, or the window average.
   std::vector<double> growth_flux(const std::deque<std::vector<double>>& window,
                                   int biofilm) const {
-    if (window.empty()) return field_.boundary_flux(scene_.growth.interface, biofilm).density;
+    if (window.empty())
+      return field_.boundary_flux(scene_.growth.settings.interface_set, biofilm).density;
     std::vector<double> avg(window.front().size(), 0.0);
     for (const auto& w : window)
       for (size_t i = 0; i < avg.size(); ++i) avg[i] += w[i] / window.size();
@@ -546,7 +411,7 @@ class Driver {
   // flow's and the structure's displacement (each measured relative to its own size).
   std::vector<std::vector<double>> inner_states() const {
     std::vector<std::vector<double>> out = {field_.solution_host()};
-    if (fluid_ && scene_.fluid.mode == "transient") {
+    if (fluid_ && scene_.fluid.mode == FlowMode::Transient) {
       out.push_back(fluid_->solution_host());
       if (structure_) {
         std::vector<double> d;
@@ -564,7 +429,7 @@ class Driver {
     for (int i = 1; i <= scene_.time.steps; ++i) {
       std::ostringstream label;
       label << prefix << "inner step " << i << " (t = " << field_.time() + scene_.time.dt << ")";
-      if (fluid_ && scene_.fluid.mode == "transient") advance_flow(label.str());
+      if (fluid_ && scene_.fluid.mode == FlowMode::Transient) advance_flow(label.str());
       field_.step(scene_.time.dt, label.str());
       std::vector<std::vector<double>> now = inner_states();
       r.change = 0;

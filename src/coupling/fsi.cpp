@@ -198,7 +198,8 @@ FsiProblem::FsiProblem(const Mesh& mesh, FluidField& fluid, StructureField& stru
 
   // The fluid mesh's constraints: walls and every non-fluid node, except the condensed interface.
   {
-    MeshDisplacementBc walls = wall_constraints(mesh, settings.fixed_walls, settings.sliding_walls);
+    MeshDisplacementBc walls = wall_constraints(mesh, settings.mesh_motion.fixed_walls,
+                                                settings.mesh_motion.sliding_walls);
     for (int n = 0; n < nn; ++n)
       if (!fluid_node[n]) walls.fix({n}, {true, true, true});
     Constraints fixed;
@@ -683,153 +684,50 @@ std::array<double, 3> roundoff_floors(const FsiProblem::Impl& m, ConstVector sta
   return floors;
 }
 
-std::array<double, 3> field_norms(const FsiProblem::Impl& m, ConstVector r) {
-  return {norm2(m.part(r, m.s_range)), norm2(m.part(r, m.f_range)), norm2(m.part(r, m.g_range))};
-}
-
-// r := D r with D = 1/scale per field.
-void scale_fields(const FsiProblem::Impl& m, const std::array<double, 3>& scale, Vector r) {
-  const Range ranges[3] = {m.s_range, m.f_range, m.g_range};
-  for (int i = 0; i < 3; ++i) biofsi::scale(1.0 / scale[i], m.part(r, ranges[i]));
-}
-
 }  // namespace
 
 // Newton on the condensed system with each field's residual measured in its own scale: the
 // linear system is solved for the residual scaled field by field to unit norm (so one field's
-// units cannot hide another's error), the line search and the forcing term use that scaled norm.
+// units cannot hide another's error), the line search and the forcing term use that scaled norm;
+// each field's tolerance is relative to the largest residual it had in the solve. A trial that
+// would turn a fluid element inside out is not admissible.
 NewtonResult FsiProblem::solve() {
   Impl& m = *impl_;
   ScopedTimer timer(stats_.seconds_solve);
   const FsiSettings& st = m.settings;
-  const int n = n_dofs();
-  Vector r("biofsi::fsi_r", n), rhs("biofsi::fsi_rhs", n), du("biofsi::fsi_du", n);
-  Vector trial("biofsi::fsi_trial", n), r_trial("biofsi::fsi_r_trial", n);
-  Vector work("biofsi::fsi_work", n);
-  NewtonResult res;
-  stats_.last_krylov.clear();
-  stats_.last_residuals.clear();
-  residual(x_, r);
-  std::array<double, 3> norms = field_norms(m, r), reference = norms;
-  stats_.last_residuals.push_back(norms);
-  auto total = [](const std::array<double, 3>& a) {
-    return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  NewtonSystem sys;
+  sys.residual = [this](ConstVector x, Vector r) { residual(x, r); };
+  sys.tangent = [this, &m](ConstVector, ConstVector dx, Vector y) {
+    apply_jacobian(m, stats_, dx, y);
   };
-  res.residual_history.push_back(total(norms));
-  if (!std::isfinite(total(norms))) {
-    res.reason = "NaN";
-    return res;
-  }
-  NewtonOptions forcing;  // Eisenstat-Walker constants; only the bounds are the coupling's own
-  forcing.eta_max = st.eta_max;
-  double eta = st.eta_max, ratio_prev = 1;
-  std::array<double, 3> floors{};  // none before the first assembly
-  while (true) {
-    if (res.iterations > 0) floors = roundoff_floors(m, x_);
-    std::array<double, 3> tol, scale;
-    bool done = true;
-    for (int i = 0; i < 3; ++i) {
-      reference[i] = std::max(reference[i], norms[i]);
-      tol[i] = std::max({st.abs_tol, st.rel_tol * reference[i], floors[i]});
-      done = done && norms[i] <= tol[i];
-      scale[i] = std::max(norms[i], tol[i]);
-    }
-    if (done) {
-      res.converged = true;
-      res.reason = "converged";
-      break;
-    }
-    if (res.iterations >= st.max_iterations) {
-      res.reason = "max iterations";
-      break;
-    }
-    const double largest = std::max({scale[0], scale[1], scale[2]});
-    for (auto& s : scale)
-      if (s == 0) s = largest;  // a field that is zero throughout: neutral weight
-    double merit0 = 0;
-    for (int i = 0; i < 3; ++i) merit0 += std::pow(norms[i] / scale[i], 2);
-
-    // The scaled residual's contraction drives the forcing term; its floor is the loosest
-    // solve with which every field still meets its tolerance (safety factor 10).
-    double needed = 1;
-    for (int i = 0; i < 3; ++i)
-      if (norms[i] > 0) needed = std::min(needed, tol[i] / norms[i]);
-    eta = forcing_term(forcing, res.iterations, ratio_prev, eta, 0.1 * needed);
-
-    linearise(m, x_);
-    setup_preconditioner(m, stats_);
-    copy(r, rhs);
-    scale_fields(m, scale, rhs);
-    biofsi::scale(-1.0, rhs);
-    fill(du, 0);
-    const ApplyFn jacobian = [&](ConstVector v, Vector y) {
-      apply_jacobian(m, stats_, v, y);
-      scale_fields(m, scale, y);
-    };
-    const ApplyFn precondition = [&](ConstVector v, Vector z) {
-      copy(v, work);
-      std::array<double, 3> inverse = {1 / scale[0], 1 / scale[1], 1 / scale[2]};
-      scale_fields(m, inverse, work);  // D^-1 v
-      apply_preconditioner(m, stats_, work, z);
-    };
-    KrylovOptions k;
-    k.rel_tol = eta;
-    k.max_iterations = st.krylov_max_iterations;
-    k.restart = st.krylov_restart;
-    const KrylovResult lin = fgmres(jacobian, precondition, rhs, du, k);
-    res.krylov_iterations += lin.iterations;
-    stats_.last_krylov.push_back(lin.iterations);
-    if (lin.reason == "NaN" || !std::isfinite(lin.final_residual) || !all_finite(du)) {
-      res.reason = "NaN in the linear solve";
-      break;
-    }
-    if (!(lin.final_residual < lin.initial_residual)) {
-      res.reason = "linear solver made no progress (" + lin.reason + ")";
-      break;
-    }
-    // Backtracking on the scaled merit sum_i (||r_i|| / scale_i)^2.
-    double lambda = 1, best = std::numeric_limits<double>::infinity(), best_lambda = 0;
-    std::array<double, 3> best_norms{};
-    int admissible_trials = 0;
-    for (int bt = 0; bt <= 10; ++bt) {
-      copy(x_, trial);
-      axpy(lambda, du, trial);
-      if (!keeps_elements_upright(m, trial)) {  // an inadmissible state: a shorter step
-        lambda *= 0.5;
-        continue;
-      }
-      ++admissible_trials;
-      residual(trial, r_trial);
-      const auto tn = field_norms(m, r_trial);
-      double merit = 0;
-      for (int i = 0; i < 3; ++i) merit += std::pow(tn[i] / scale[i], 2);
-      if (std::isfinite(merit) && merit < best) {
-        best = merit;
-        best_lambda = lambda;
-        best_norms = tn;
-      }
-      if (std::isfinite(merit) && merit <= (1 - 2e-4 * lambda) * merit0) break;
-      lambda *= 0.5;
-    }
-    if (!(best < merit0)) {
-      res.reason = admissible_trials == 0
-                       ? "line search failed: every trial step turned an element inside out"
-                       : "line search failed";
-      break;
-    }
-    if (best_lambda != lambda) {  // the last trial was not the best one: redo the best
-      copy(x_, trial);
-      axpy(best_lambda, du, trial);
-      residual(trial, r_trial);
-    }
-    copy(trial, x_);
-    copy(r_trial, r);
-    ratio_prev = std::sqrt(best / merit0);
-    norms = best_norms;
-    ++res.iterations;
-    stats_.last_residuals.push_back(norms);
-    res.residual_history.push_back(total(norms));
-  }
+  sys.linearise = [&m](ConstVector x) { linearise(m, x); };
+  sys.setup_preconditioner = [this, &m](ConstVector) { setup_preconditioner(m, stats_); };
+  sys.precondition = [this, &m](ConstVector r, Vector z) { apply_preconditioner(m, stats_, r, z); };
+  sys.blocks = {m.s_range, m.f_range, m.g_range};
+  sys.roundoff_floors = [&m](ConstVector x) {
+    const auto f = roundoff_floors(m, x);
+    return std::vector<Real>(f.begin(), f.end());
+  };
+  sys.admissible = [&m](ConstVector x) { return keeps_elements_upright(m, x); };
+  NewtonOptions opt;  // Eisenstat-Walker constants; the bounds are the coupling's own
+  opt.rel_tol = st.rel_tol;
+  opt.abs_tol = st.abs_tol;
+  opt.max_iterations = st.max_iterations;
+  opt.eta_max = st.eta_max;
+  opt.max_backtracks = 10;
+  opt.krylov = KrylovOptions{};
+  opt.krylov.max_iterations = st.krylov_max_iterations;
+  opt.krylov.restart = st.krylov_restart;
+  opt.line_search = LineSearch::BlockMerit;
+  opt.scale_blocks = true;
+  opt.tolerance_from_largest = true;
+  // The loosest solve with which every field still meets its tolerance, with a safety factor 10.
+  opt.forcing_floor_factor = 0.1;
+  opt.floor_includes_roundoff = true;
+  NewtonResult res = newton_solve(sys, x_, opt);
+  stats_.last_krylov = res.krylov_history;
+  stats_.last_residuals.clear();
+  for (const auto& n : res.block_history) stats_.last_residuals.push_back({n[0], n[1], n[2]});
   ++stats_.solves;
   stats_.newton_iterations += res.iterations;
   stats_.krylov_iterations += res.krylov_iterations;

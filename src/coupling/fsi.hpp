@@ -2,8 +2,9 @@
 // (paper sections 2 and 5): one Newton loop for the structure displacement, the fluid velocity and
 // pressure and the fluid mesh displacement, on a mesh whose fluid and structure blocks share the
 // interface nodes (conforming).
-// What it may include: src/fluid, src/structure, src/ale, src/mesh, src/solvers. The driver
-// (src/app) depends on it; no field depends on it.
+// What it may include: src/fluid, src/structure, src/ale, src/mesh, src/solvers (and src/io's
+// reader helpers in parameters.hpp, its scene section). The driver (src/app) depends on it; no
+// field depends on it.
 //
 // Formulation (fluid-split condensation, as in Küttler, Gee, Förster, Comerford & Wall 2010 and
 // Gee, Küttler & Wall 2011): on the interface Γ the fluid velocity and the fluid mesh displacement
@@ -58,7 +59,6 @@ struct FsiSettings {
   // The fluid mesh: pseudo-elastic material and walls (fixed: every component; sliding: the
   // wall-normal one). Nodes outside the fluid's blocks do not belong to the fluid mesh.
   MeshMotionSettings mesh_motion;
-  std::vector<std::string> fixed_walls, sliding_walls;
   ShapeDerivatives shape_derivatives = ShapeDerivatives::FiniteDifference;
   // Newton: every field's residual norm below rel_tol times its largest value in the solve (or
   // below abs_tol). Per field, because their units differ (forces, flow rates, mesh forces).

@@ -16,17 +16,6 @@ namespace biofsi {
 
 namespace {
 
-FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
-  FaceView d("biofsi::fluid_faces", faces.size());
-  auto h = Kokkos::create_mirror_view(d);
-  for (size_t i = 0; i < faces.size(); ++i) {
-    h(i, 0) = faces[i].element;
-    h(i, 1) = faces[i].local_face;
-  }
-  Kokkos::deep_copy(d, h);
-  return d;
-}
-
 // Outward (out of its element) area vector of a boundary face: half the cross product of the
 // diagonals, exact for planar quadrilaterals.
 Point face_area_vector(const Mesh& mesh, const BoundaryFace& f) {
@@ -152,7 +141,7 @@ FluidField::FluidField(const Mesh& mesh, const FluidSettings& settings,
           fixed[4 * n + 3] = bc.value[0] ? &bc.value[0] : nullptr;
         break;
       case FluidBcKind::Traction: {
-        FaceTerm term{bc.set, bc.value, faces_to_device(mesh_.face_sets.at(bc.set)),
+        FaceTerm term{bc.set, bc.value, to_device(mesh_.face_sets.at(bc.set)),
                       NodalView("biofsi::fluid_face_aux", nn, 3),
                       FaceOperator<FluidTractionPhysics>(ConstFaceView{}, dmesh_.conn, dmesh_.x,
                                                          ConstNodalView{}, {})};
@@ -254,7 +243,7 @@ void FluidField::save_old_state() {
   Kokkos::parallel_for(
       "biofsi::fluid_old_velocity", Kokkos::RangePolicy<ExecSpace>(0, mesh_.n_nodes()),
       KOKKOS_LAMBDA(int n) {
-        for (int d = 0; d < 3; ++d) aux(n, d) = s(4 * n + d);
+        for (int d = 0; d < 3; ++d) aux(n, FluidPhysics::aux_velocity_old + d) = s(4 * n + d);
       });
 }
 
@@ -266,7 +255,7 @@ void FluidField::update_body_force(double t) {
   Kokkos::deep_copy(h, aux_);
   for (int n = 0; n < mesh_.n_nodes(); ++n) {
     const Point b = body_force_(mesh_.x[n], t);
-    for (int d = 0; d < 3; ++d) h(n, 6 + d) = b[d];
+    for (int d = 0; d < 3; ++d) h(n, FluidPhysics::aux_body_force + d) = b[d];
   }
   Kokkos::deep_copy(aux_, h);
 }
@@ -277,7 +266,7 @@ void FluidField::set_grid_velocity(const std::vector<Point>& ug) {
   auto h = Kokkos::create_mirror_view(aux_);
   Kokkos::deep_copy(h, aux_);
   for (int n = 0; n < mesh_.n_nodes(); ++n)
-    for (int d = 0; d < 3; ++d) h(n, 3 + d) = ug[n][d];
+    for (int d = 0; d < 3; ++d) h(n, FluidPhysics::aux_grid_velocity + d) = ug[n][d];
   Kokkos::deep_copy(aux_, h);
 }
 
@@ -378,7 +367,8 @@ void FluidField::set_geometry(ConstCoordView x, ConstVector grid_velocity) {
   Kokkos::parallel_for(
       "biofsi::fluid_grid_velocity", Kokkos::RangePolicy<ExecSpace>(0, mesh_.n_nodes()),
       KOKKOS_LAMBDA(int n) {
-        for (int d = 0; d < 3; ++d) aux(n, 3 + d) = grid_velocity(3 * n + d);
+        for (int d = 0; d < 3; ++d)
+          aux(n, FluidPhysics::aux_grid_velocity + d) = grid_velocity(3 * n + d);
       });
 }
 
@@ -557,41 +547,24 @@ NewtonResult FluidField::solve_steady(const std::string& label) {
     return steady_newton(label);
   } catch (const SolveError& first) {
     if (settings_.pseudo_transient_steps == 0) throw;
-    // Pseudo-transient continuation: backward-Euler pseudo-time steps (physical time kept), the
-    // step doubled after a success and quartered after a failure, then steady Newton again.
-    copy(start, state_);
-    save_old_state();
     const double t = time_;
-    double dt = settings_.pseudo_dt0;
-    Vector before("biofsi::fluid_pseudo", state_.extent(0));
-    for (int i = 1; i <= settings_.pseudo_transient_steps; ++i) {
-      copy(state_, before);
-      try {
-        step_once(dt, 1.0, label + " (pseudo-time step " + std::to_string(i) + ")");
-      } catch (const SolveError&) {
-        copy(before, state_);
-        time_ = t;
-        dt /= 4;
-        continue;
-      }
-      time_ = t;
-      ++stats_.pseudo_steps;
-      dt *= 2;
-      axpby(1.0, state_, -1.0, before);
-      if (norm2(before) > 1e-3 * norm2(state_)) continue;
-      copy(state_, before);
-      try {
-        return steady_newton(label + " (after pseudo-time continuation)");
-      } catch (const SolveError&) {
-        copy(before, state_);
-      }
-    }
-    copy(start, state_);
-    save_old_state();
-    throw SolveError("fluid", label,
-                     first.why() + "; pseudo-transient continuation (" +
-                         std::to_string(settings_.pseudo_transient_steps) +
-                         " pseudo-time steps) did not reach the steady state either");
+    return pseudo_transient_continuation(
+        first, "fluid", label, state_, settings_.pseudo_transient_steps, settings_.pseudo_dt0,
+        [&](double dt, const std::string& l) {
+          try {
+            step_once(dt, 1.0, l);
+          } catch (const SolveError&) {
+            time_ = t;
+            throw;
+          }
+          time_ = t;
+        },
+        [&](const std::string& l) { return steady_newton(l); },
+        [&] {
+          copy(start, state_);
+          save_old_state();
+        },
+        stats_.pseudo_steps);
   }
 }
 
@@ -650,8 +623,8 @@ BoundaryTraction FluidField::boundary_traction(const std::string& set) const {
   op_.residual(groups_, state_, r);
   const auto rh = to_host_vector(r);
   Vector area("biofsi::fluid_lumped_area", mesh_.n_nodes());
-  FaceOperator<UnitAreaIntegrand> faces(faces_to_device(mesh_.face_sets.at(set)), dmesh_.conn,
-                                        dmesh_.x, ConstNodalView{}, UnitAreaIntegrand{});
+  FaceOperator<UnitAreaIntegrand> faces(to_device(mesh_.face_sets.at(set)), dmesh_.conn, dmesh_.x,
+                                        ConstNodalView{}, UnitAreaIntegrand{});
   faces.residual(Vector("biofsi::fluid_dummy", mesh_.n_nodes()), area);
   const auto ah = to_host_vector(area);
   std::vector<Point> normal_sum(mesh_.n_nodes(), Point{0, 0, 0});

@@ -2,8 +2,9 @@
 // meshes — boundary conditions, one-step-theta or steady solves by Newton-Krylov with a
 // monolithic systems-AMG or a SIMPLE-type block preconditioner, and the consistent boundary
 // traction and wall shear stress that the growth model (sigma in eq. 11) and FSI read.
-// What it may include: kernels/core, kernels/fluid, src/mesh, src/solvers. It knows nothing of
-// scene files (src/io) or the driver (src/app); those, and the FSI coupling, depend on it.
+// What it may include: kernels/core, kernels/fluid, src/mesh, src/solvers; only its scene-section
+// reader (parameters.hpp) includes src/io's reader helpers. The driver (src/app), the scene
+// (src/io/scene.hpp) and the FSI coupling depend on it.
 #pragma once
 
 #include <array>

@@ -22,7 +22,7 @@ InterfaceMotion interface_motion(const Mesh& mesh, const GrowthSettings& s,
   }
   // Where the interface meets a sliding wall, remove the wall-normal component so the biofilm stays
   // attached to the wall.
-  for (const auto& wall : s.sliding_walls) {
+  for (const auto& wall : s.mesh_motion.sliding_walls) {
     if (!mesh.node_sets.count(wall)) continue;
     const auto& wall_nodes = mesh.node_sets.at(wall);
     const auto wall_normal = nodal_normals(mesh, wall);
@@ -36,7 +36,8 @@ InterfaceMotion interface_motion(const Mesh& mesh, const GrowthSettings& s,
 
 GrowthStepReport grow(Mesh& mesh, MeshMotion& motion, const GrowthSettings& s,
                       const InterfaceMotion& interface, const std::string& label) {
-  MeshDisplacementBc bc = wall_constraints(mesh, s.fixed_walls, s.sliding_walls);
+  MeshDisplacementBc bc =
+      wall_constraints(mesh, s.mesh_motion.fixed_walls, s.mesh_motion.sliding_walls);
   for (size_t i = 0; i < interface.nodes.size(); ++i)
     bc.prescribe(interface.nodes[i], interface.displacement[i]);
 
@@ -50,12 +51,12 @@ GrowthStepReport grow(Mesh& mesh, MeshMotion& motion, const GrowthSettings& s,
   r.krylov_iterations = mr.krylov_iterations;
   r.quality = mesh_quality_by_block(moved);
   for (size_t b = 0; b < r.quality.size(); ++b)
-    if (r.quality[b].min < s.min_quality) {
+    if (r.quality[b].min < s.mesh_motion.min_quality) {
       std::ostringstream why;
       why << "element " << r.quality[b].worst_element << " of block '" << mesh.block_names[b]
           << "' would get scaled Jacobian " << r.quality[b].min
           << (r.quality[b].min <= 0 ? " (inverted)" : " (degenerate)") << ", below min_quality "
-          << s.min_quality << "; the mesh was not moved";
+          << s.mesh_motion.min_quality << "; the mesh was not moved";
       throw SolveError("growth", label, why.str());
     }
   double sum = 0;

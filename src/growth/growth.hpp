@@ -2,7 +2,8 @@
 // v = K1 J - K2 sigma along the area-weighted nodal normal of the interface, the interface
 // displacement dt_bio v n (nodes where the interface meets a side wall slide along it), and the
 // pseudo-elastic motion of the biofilm and fluid meshes that takes the grown biofilm as the new
-// reference. What it may include: src/mesh, src/ale, src/solvers. The driver depends on it.
+// reference. What it may include: src/mesh, src/ale, src/solvers (and src/io's reader helpers in
+// parameters.hpp, its scene section). The driver depends on it.
 #pragma once
 
 #include <string>
@@ -19,10 +20,9 @@ struct GrowthSettings {
   double k1 = 0;        // growth per substrate flux density [mm / (amount / (mm^2 ms)) / ms]
   double k2 = 0;        // erosion per wall shear stress
   double dt_bio = 1;    // biological time step [ms]
-  // Face sets on which mesh nodes slide (normal displacement zero) and sets held fixed.
-  std::vector<std::string> sliding_walls = {"left", "right", "front", "back"};
-  std::vector<std::string> fixed_walls = {"bottom", "top"};
-  double min_quality = 0.02;  // smallest scaled Jacobian accepted after a move
+  // The motion of the biofilm and fluid meshes: its walls (the interface slides on the sliding
+  // ones) and the smallest scaled Jacobian a move may leave.
+  MeshMotionSettings mesh_motion;
 };
 
 struct InterfaceMotion {

@@ -151,3 +151,12 @@ const std::string& Expression::text() const { return impl_->text; }
 bool Expression::is_constant() const { return impl_->constant; }
 
 }  // namespace biofsi
+
+namespace biofsi {
+
+std::function<double(const Point&, double)> space_time_function(const std::string& text) {
+  auto e = std::make_shared<Expression>(text);
+  return [e](const Point& x, double t) { return (*e)(x[0], x[1], x[2], t); };
+}
+
+}  // namespace biofsi

@@ -4,8 +4,11 @@
 // Host only; not thread-safe (one parser per object).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
+
+#include "mesh/mesh.hpp"
 
 namespace biofsi {
 
@@ -26,5 +29,8 @@ class Expression {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The expression as a function of a point and time (boundary and initial data of the fields).
+std::function<double(const Point&, double)> space_time_function(const std::string& text);
 
 }  // namespace biofsi

@@ -218,6 +218,17 @@ DeviceMesh to_device(const Mesh& mesh) {
   return d;
 }
 
+FaceView to_device(const std::vector<BoundaryFace>& faces) {
+  FaceView d("biofsi::faces", faces.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < faces.size(); ++i) {
+    h(i, 0) = faces[i].element;
+    h(i, 1) = faces[i].local_face;
+  }
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
 std::vector<double> scaled_jacobians(const Mesh& mesh) {
   // Corner c of a VTK hex and its three edge neighbours, ordered so that a right-handed cube has
   // positive determinant at every corner.

@@ -15,6 +15,7 @@
 
 #include "kernels/core/csr.hpp"
 #include "kernels/core/element_loop.hpp"
+#include "kernels/core/face.hpp"
 #include "kernels/core/types.hpp"
 
 namespace biofsi {
@@ -104,6 +105,8 @@ struct DeviceMesh {
   IndexView element_block;
 };
 DeviceMesh to_device(const Mesh& mesh);
+// Device copy of a face set: (element, local face) per face.
+FaceView to_device(const std::vector<BoundaryFace>& faces);
 void copy_coordinates_to_device(const Mesh& mesh, CoordView x);
 
 // Scaled Jacobian of each element: min over the 8 corners of det[e1 e2 e3] / (|e1||e2||e3|) of

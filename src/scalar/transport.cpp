@@ -14,17 +14,6 @@ namespace biofsi {
 
 namespace {
 
-FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
-  FaceView d("biofsi::faces", faces.size());
-  auto h = Kokkos::create_mirror_view(d);
-  for (size_t i = 0; i < faces.size(); ++i) {
-    h(i, 0) = faces[i].element;
-    h(i, 1) = faces[i].local_face;
-  }
-  Kokkos::deep_copy(d, h);
-  return d;
-}
-
 void set_aux_column(NodalView aux, int column, ConstVector values) {
   Kokkos::parallel_for(
       "biofsi::set_aux_column", Kokkos::RangePolicy<ExecSpace>(0, values.extent(0)),
@@ -69,8 +58,7 @@ TransportField::TransportField(const Mesh& mesh, const TransportSettings& settin
     if (bc.kind == ScalarBcKind::Dirichlet) {
       for (int n : mesh_.node_sets.at(bc.set)) dirichlet_[n] = bc.value;
     } else {
-      FaceTerm term{bc, faces_to_device(mesh_.face_sets.at(bc.set)),
-                    NodalView("biofsi::face_aux", nn, 4),
+      FaceTerm term{bc, to_device(mesh_.face_sets.at(bc.set)), NodalView("biofsi::face_aux", nn, 4),
                     FaceOperator<TransportBoundaryPhysics>(ConstFaceView{}, dmesh_.conn, dmesh_.x,
                                                            ConstNodalView{}, {})};
       term.op = FaceOperator<TransportBoundaryPhysics>(term.faces, dmesh_.conn, dmesh_.x, term.aux,
@@ -100,7 +88,7 @@ void TransportField::set_solution(const std::vector<double>& phi) {
     throw std::invalid_argument("scalar solution has the wrong size");
   Kokkos::deep_copy(phi_, to_device_vector(phi, "biofsi::phi_in"));
   copy(phi_, phi_old_);
-  set_aux_column(aux_, 0, phi_old_);
+  set_aux_column(aux_, TransportPhysics::aux_phi_old, phi_old_);
 }
 
 void TransportField::set_convective_velocity(const std::vector<Point>& c) {
@@ -111,7 +99,7 @@ void TransportField::set_convective_velocity(const std::vector<Point>& c) {
   has_convection_ = false;
   for (int n = 0; n < mesh_.n_nodes(); ++n)
     for (int d = 0; d < 3; ++d) {
-      h(n, 4 + d) = c[n][d];
+      h(n, TransportPhysics::aux_convective_velocity + d) = c[n][d];
       has_convection_ = has_convection_ || c[n][d] != 0.0;
     }
   Kokkos::deep_copy(aux_, h);
@@ -124,7 +112,7 @@ void TransportField::set_material_velocity(const std::vector<Point>& w) {
   auto h = Kokkos::create_mirror_view(aux_);
   Kokkos::deep_copy(h, aux_);
   for (int n = 0; n < mesh_.n_nodes(); ++n)
-    for (int d = 0; d < 3; ++d) h(n, 1 + d) = w[n][d];
+    for (int d = 0; d < 3; ++d) h(n, TransportPhysics::aux_material_velocity + d) = w[n][d];
   Kokkos::deep_copy(aux_, h);
   preconditioner_current_ = false;
 }
@@ -135,7 +123,7 @@ void TransportField::update_source(double t_eval) {
   if (!source_) return;
   std::vector<double> v(mesh_.n_nodes());
   for (int n = 0; n < mesh_.n_nodes(); ++n) v[n] = source_(mesh_.x[n], t_eval);
-  set_aux_column(aux_, 7, to_device_vector(v, "biofsi::source"));
+  set_aux_column(aux_, TransportPhysics::aux_source, to_device_vector(v, "biofsi::source"));
 }
 
 void TransportField::update_coordinates(const Mesh& mesh) {
@@ -164,12 +152,12 @@ void TransportField::update_face_data(double t_eval) {
     for (int n : mesh_.node_sets.at(f.bc.set)) {
       const double v = f.bc.value(mesh_.x[n], t_eval);
       const bool robin = f.bc.kind == ScalarBcKind::Robin;
-      h(n, 1) = robin ? 0.0 : v;
-      h(n, 2) = robin ? f.bc.coefficient : 0.0;
-      h(n, 3) = robin ? v : 0.0;
+      h(n, TransportBoundaryPhysics::aux_flux) = robin ? 0.0 : v;
+      h(n, TransportBoundaryPhysics::aux_coefficient) = robin ? f.bc.coefficient : 0.0;
+      h(n, TransportBoundaryPhysics::aux_ambient) = robin ? v : 0.0;
     }
     Kokkos::deep_copy(f.aux, h);
-    set_aux_column(f.aux, 0, phi_old_);
+    set_aux_column(f.aux, TransportBoundaryPhysics::aux_phi_old, phi_old_);
   }
 }
 
@@ -282,7 +270,7 @@ NewtonResult TransportField::advance(const std::string& label, double abs_floor)
 NewtonResult TransportField::step_once(double dt, double theta, const std::string& label,
                                        bool fresh_preconditioner) {
   copy(phi_, phi_old_);
-  set_aux_column(aux_, 0, phi_old_);
+  set_aux_column(aux_, TransportPhysics::aux_phi_old, phi_old_);
   set_step_physics(1.0 / dt, theta);
   update_face_data(time_ + theta * dt);
   update_source(time_ + theta * dt);
@@ -332,7 +320,7 @@ NewtonResult TransportField::step(double dt, const std::string& label) {
 
 NewtonResult TransportField::steady_newton(const std::string& label) {
   copy(phi_, phi_old_);
-  set_aux_column(aux_, 0, phi_old_);
+  set_aux_column(aux_, TransportPhysics::aux_phi_old, phi_old_);
   set_step_physics(0.0, 1.0);
   update_face_data(time_);
   update_source(time_);
@@ -349,40 +337,20 @@ NewtonResult TransportField::solve_steady(const std::string& label) {
     return steady_newton(label);
   } catch (const SolveError& first) {
     if (settings_.pseudo_transient_steps == 0) throw;
-    // Pseudo-transient continuation: backward-Euler steps in pseudo-time (the physical time
-    // stays), the step doubled after each success and quartered after a failure, and another
-    // steady Newton solve once the pseudo-time steps barely change the field.
-    copy(start, phi_);
     const double t = time_;
-    double dt = settings_.pseudo_dt0;
-    Vector before("biofsi::phi_pseudo", phi_.extent(0));
-    for (int i = 1; i <= settings_.pseudo_transient_steps; ++i) {
-      copy(phi_, before);
-      try {
-        step_once(dt, 1.0, label + " (pseudo-time step " + std::to_string(i) + ")", true);
-      } catch (const SolveError&) {
-        copy(before, phi_);
-        time_ = t;
-        dt /= 4;
-        continue;
-      }
-      time_ = t;
-      ++stats_.pseudo_steps;
-      dt *= 2;
-      axpby(1.0, phi_, -1.0, before);  // before := phi - before
-      if (norm2(before) > 1e-3 * norm2(phi_)) continue;
-      copy(phi_, before);
-      try {
-        return steady_newton(label + " (after pseudo-time continuation)");
-      } catch (const SolveError&) {
-        copy(before, phi_);
-      }
-    }
-    copy(start, phi_);
-    throw SolveError("scalar", label,
-                     first.why() + "; pseudo-transient continuation (" +
-                         std::to_string(settings_.pseudo_transient_steps) +
-                         " pseudo-time steps) did not reach the steady state either");
+    return pseudo_transient_continuation(
+        first, "scalar", label, phi_, settings_.pseudo_transient_steps, settings_.pseudo_dt0,
+        [&](double dt, const std::string& l) {
+          try {
+            step_once(dt, 1.0, l, true);
+          } catch (const SolveError&) {
+            time_ = t;
+            throw;
+          }
+          time_ = t;
+        },
+        [&](const std::string& l) { return steady_newton(l); }, [&] { copy(start, phi_); },
+        stats_.pseudo_steps);
   }
 }
 
@@ -415,8 +383,8 @@ BoundaryFlux TransportField::boundary_flux(const std::string& set, int block) co
   op_.residual(make_element_groups(mesh_, elements, Scatter::Atomic), phi_, r);
   const auto rh = to_host_vector(r);
   Vector area("biofsi::lumped_area", mesh_.n_nodes());
-  FaceOperator<UnitAreaIntegrand> faces(faces_to_device(mesh_.face_sets.at(set)), dmesh_.conn,
-                                        dmesh_.x, ConstNodalView{}, UnitAreaIntegrand{});
+  FaceOperator<UnitAreaIntegrand> faces(to_device(mesh_.face_sets.at(set)), dmesh_.conn, dmesh_.x,
+                                        ConstNodalView{}, UnitAreaIntegrand{});
   faces.residual(phi_, area);
   const auto ah = to_host_vector(area);
   BoundaryFlux out;

@@ -1,8 +1,8 @@
 // src/scalar: the substrate transport field (paper eqs. 8-10) on one continuous scalar over all
 // blocks — boundary conditions, time stepping (one-step-theta or steady), Newton-Krylov with
 // BoomerAMG, and the consistent boundary flux that the growth model reads.
-// What it may include: kernels/core, kernels/scalar, src/mesh, src/solvers. It knows nothing of
-// scene files (src/io) or the driver (src/app); those depend on it.
+// What it may include: kernels/core, kernels/scalar, src/mesh, src/solvers; only its scene-section
+// reader (parameters.hpp) includes src/io's reader helpers. The driver and the scene depend on it.
 #pragma once
 
 #include <functional>

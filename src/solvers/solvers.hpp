@@ -1,5 +1,7 @@
-// src/solvers: Krylov methods on Kokkos Views, hypre BoomerAMG on an assembled matrix, and the
-// Newton method with inexact forcing and backtracking line search, all field-independent.
+// src/solvers: Krylov methods on Kokkos Views, hypre BoomerAMG on an assembled matrix, the one
+// Newton method of every field and of the FSI (inexact forcing, pluggable line search, block
+// norms, round-off floors, admissible states) and the time-stepping helpers (step cutting,
+// pseudo-transient continuation), all field-independent.
 // What it may include: kernels/core, hypre, MPI. Fields (src/scalar, ...) and the driver depend on
 // it; it depends on no field.
 #pragma once
@@ -8,6 +10,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/core/csr.hpp"
@@ -157,17 +160,54 @@ struct NewtonSystem {
   std::function<void(ConstVector u)> setup_preconditioner;
   ApplyFn precondition;    // may be empty
   bool symmetric = false;  // CG if true, FGMRES otherwise
+
+  // Optional pieces; left empty, Newton measures the whole residual with one norm.
+  // Blocks [first, last) of the unknowns whose residuals are measured, and converge, separately
+  // (the fields of a coupled problem, whose units differ).
+  std::vector<std::pair<int, int>> blocks;
+  // Per block, the round-off level of its residual at the iterate u, below which no iteration can
+  // reduce it: a block that reaches it has converged (from the second iterate on).
+  std::function<std::vector<Real>(ConstVector u)> roundoff_floors;
+  // False for a state outside the residual's domain (an element turned inside out): the line
+  // search then tries a shorter step.
+  std::function<bool(ConstVector u)> admissible;
+};
+
+enum class LineSearch {
+  // Backtracking (halving) on ||r||^2 with the Armijo test on the inexact-Newton slope bound.
+  ResidualArmijo,
+  // On G(s) = du . r(u + s du), the derivative of the potential energy along du for conservative
+  // problems: s = 1 when |G(1)| <= 0.8 |G(0)| or ||r|| fell, otherwise regula falsi on G for up to
+  // 8 trials in s in [0.05, 1], keeping the trial of smallest ||r||; halving on ||r|| when du is
+  // not a descent direction (indefinite tangent). For slender or soft bodies under large
+  // rotations, whose stiff directions dominate ||r||.
+  EnergyRegulaFalsi,
+  // Halving on the block-scaled merit sum_i (||r_i|| / scale_i)^2 until it falls by 2e-4 lambda,
+  // keeping the best trial.
+  BlockMerit
 };
 
 struct NewtonOptions {
-  Real rel_tol = 1e-10;  // on ||r|| / ||r0||
+  Real rel_tol = 1e-10;  // on ||r|| / ||r0|| (per block: of that block)
   Real abs_tol = 1e-14;  // on ||r||
   int max_iterations = 25;
   // Eisenstat-Walker (choice 2) forcing: eta_k = gamma (||r_k|| / ||r_{k-1}||)^alpha, clipped to
   // [eta_min, eta_max]; eta_max also bounds the first linear solve.
   Real eta_max = 1e-2, eta_min = 1e-10, gamma = 0.9, alpha = 2.0;
-  int max_backtracks = 20;  // Armijo backtracking on ||r||^2 with halving
+  int max_backtracks = 20;  // line-search trials after the full step
   KrylovOptions krylov;     // rel_tol is replaced by the forcing term
+  LineSearch line_search = LineSearch::ResidualArmijo;
+  // Solve for the residual scaled block by block to unit norm (so one block's units cannot hide
+  // another's error); the forcing term then follows the scaled residual.
+  bool scale_blocks = false;
+  // The relative tolerance of each block against the largest residual it had in the solve
+  // (false: against the initial one).
+  bool tolerance_from_largest = false;
+  // The forcing term's floor: this factor times the eta at which the next iterate would already
+  // meet the tolerance (solving more accurately than that is wasted work); with
+  // `floor_includes_roundoff`, the tolerance there includes the round-off floors.
+  Real forcing_floor_factor = 0.5;
+  bool floor_includes_roundoff = false;
 };
 
 struct NewtonResult {
@@ -175,6 +215,10 @@ struct NewtonResult {
   int iterations = 0;
   int krylov_iterations = 0;           // summed over all Newton iterations
   std::vector<Real> residual_history;  // ||r|| at every iterate, starting with the initial one
+  // Per iterate, each block's residual norm (one entry without blocks), and per Newton iteration
+  // its Krylov iterations.
+  std::vector<std::vector<Real>> block_history;
+  std::vector<int> krylov_history;
   std::string
       reason;  // "converged", "max iterations", "line search failed", "NaN", "linear solver"
 };
@@ -188,6 +232,19 @@ NewtonResult retry_in_sub_steps(
     int max_cuts, const std::function<NewtonResult(double, const std::string&)>& sub_step,
     const std::function<void()>& restore, int& cut_steps);
 
+// A steady solve that failed with `first`, continued in pseudo-time: restore_start() puts the
+// field back to the state the solve started from; then backward-Euler pseudo-time steps
+// pseudo_step(dt, label) (throwing SolveError on failure, leaving the physical time as it was),
+// the step doubled after a success (counted in pseudo_steps) and quartered after a failure; once
+// a step changes `state` by less than 1e-3 of its norm, steady(label) is tried again. After
+// max_steps pseudo-time steps without a steady solution the start is restored and
+// SolveError(field, label, why first failed and that continuation did not help) is thrown.
+NewtonResult pseudo_transient_continuation(
+    const SolveError& first, const std::string& field, const std::string& label, Vector state,
+    int max_steps, double dt0, const std::function<void(double, const std::string&)>& pseudo_step,
+    const std::function<NewtonResult(const std::string&)>& steady,
+    const std::function<void()>& restore_start, int& pseudo_steps);
+
 // Eisenstat-Walker choice 2 for Newton iteration k: gamma contraction^alpha (contraction =
 // ||r_k|| / ||r_{k-1}||), with their safeguard against a sudden drop of eta when the previous one
 // was already large, and `floor`: the eta at which the next iterate would already meet the
@@ -195,8 +252,10 @@ NewtonResult retry_in_sub_steps(
 // only exhausts the Krylov iterations). Clipped to [eta_min, eta_max].
 Real forcing_term(const NewtonOptions& opt, int k, Real contraction, Real eta_prev, Real floor);
 
-// Solves residual(u) = 0 starting from u (updated in place). Never throws for non-convergence:
-// the caller decides (and raises SolveError with its field and step).
+// Solves residual(u) = 0 starting from u (updated in place) by inexact Newton: Eisenstat-Walker
+// forcing decides how accurately each linear system is solved, and the options' line search
+// globalises the iteration. Never throws for non-convergence: the caller decides (and raises
+// SolveError with its field and step).
 NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOptions& opt);
 
 }  // namespace biofsi

@@ -14,17 +14,6 @@ namespace biofsi {
 
 namespace {
 
-FaceView faces_to_device(const std::vector<BoundaryFace>& faces) {
-  FaceView d("biofsi::structure_faces", faces.size());
-  auto h = Kokkos::create_mirror_view(d);
-  for (size_t i = 0; i < faces.size(); ++i) {
-    h(i, 0) = faces[i].element;
-    h(i, 1) = faces[i].local_face;
-  }
-  Kokkos::deep_copy(d, h);
-  return d;
-}
-
 void copy_to_device(const std::vector<double>& v, Vector d) {
   auto h = Kokkos::create_mirror_view(d);
   for (size_t i = 0; i < v.size(); ++i) h(i) = v[i];
@@ -181,7 +170,7 @@ StructureField::StructureField(const Mesh& mesh, const StructureSettings& settin
   for (auto& t : tractions) {
     if (!mesh_.face_sets.count(t.set))
       throw std::invalid_argument("structure traction on unknown face set '" + t.set + "'");
-    FaceView faces = faces_to_device(mesh_.face_sets.at(t.set));
+    FaceView faces = to_device(mesh_.face_sets.at(t.set));
     NodalView aux("biofsi::traction_aux", mesh_.n_nodes(), 3);
     faces_.push_back(FaceTerm{
         t, faces, aux,
@@ -238,8 +227,8 @@ void StructureField::set_step_data(double dt) {
   p.dt = qs ? 0.0 : dt;
   p.mass_coefficient = qs ? 0.0 : 1.0 / (theta * dt * dt);
   op_.set_physics(p);
-  set_aux_vector(aux_, 0, d_);
-  set_aux_vector(aux_, 3, v_);
+  set_aux_vector(aux_, StructurePhysics::aux_displacement_old, d_);
+  set_aux_vector(aux_, StructurePhysics::aux_velocity_old, v_);
   const int nn = mesh_.n_nodes();
   {
     auto h = Kokkos::create_mirror_view(aux_);
@@ -250,7 +239,7 @@ void StructureField::set_step_data(double dt) {
         if (body_force_[c])
           b = theta * body_force_[c](mesh_.x[i], t1) +
               (theta < 1 ? (1 - theta) * body_force_[c](mesh_.x[i], time_) : 0.0);
-        h(i, 6 + c) = b;
+        h(i, StructurePhysics::aux_body_force + c) = b;
       }
     Kokkos::deep_copy(aux_, h);
   }
@@ -517,125 +506,6 @@ double StructureField::roundoff_floor() const {
   return 1e4 * std::numeric_limits<double>::epsilon() * std::sqrt(s);
 }
 
-// Newton with a line search on the directional derivative G(s) = du . r(u + s du) instead of the
-// residual norm (src/solvers' newton_solve): for slender or soft bodies under large rotations the
-// stiff membrane and thickness directions dominate ||r||, so backtracking on it accepts steps of
-// ~1e-3 and stalls (measured on Cook's membrane and a soft cantilever), while G, the derivative
-// of the potential energy along du for these conservative problems, changes sign where the energy
-// is least along the step. s = 1 is kept when |G(1)| <= 0.8 |G(0)| or ||r|| fell; otherwise
-// regula falsi on G for up to max_backtracks trials (s in [0.05, 1]), keeping the best trial.
-// Inexact solves use Eisenstat-Walker forcing as newton_solve does.
-NewtonResult StructureField::newton(const NewtonSystem& sys, const NewtonOptions& opt) {
-  NewtonResult res;
-  const int n = n_dofs();
-  Vector r("biofsi::snewton_r", n), du("biofsi::snewton_du", n), rhs("biofsi::snewton_rhs", n);
-  Vector trial("biofsi::snewton_trial", n), r_trial("biofsi::snewton_rt", n);
-  Vector best("biofsi::snewton_best", n), r_best("biofsi::snewton_rbest", n);
-  sys.residual(u_, r);
-  double r_norm = norm2(r);
-  res.residual_history.push_back(r_norm);
-  if (!std::isfinite(r_norm)) {
-    res.reason = "NaN";
-    return res;
-  }
-  const double tol = std::max(opt.abs_tol, opt.rel_tol * r_norm);
-  const ApplyFn jacobian = [&](ConstVector x, Vector y) { sys.tangent(u_, x, y); };
-  double r_prev = r_norm, eta = opt.eta_max;
-  while (true) {
-    // The round-off floor grows with the solution, so it is re-evaluated at every iterate.
-    if (r_norm <= tol || (res.iterations > 0 && r_norm <= roundoff_floor())) {
-      res.converged = true;
-      res.reason = "converged";
-      break;
-    }
-    if (res.iterations >= opt.max_iterations) {
-      res.reason = "max iterations";
-      break;
-    }
-    if (res.iterations > 0) {
-      double e = opt.gamma * std::pow(r_norm / r_prev, opt.alpha);
-      const double from_prev = opt.gamma * std::pow(eta, opt.alpha);
-      if (from_prev > 0.1) e = std::max(e, from_prev);
-      eta = e;
-    }
-    eta = std::max(std::min(eta, opt.eta_max), 0.5 * tol / r_norm);
-    eta = std::max(std::min(eta, opt.eta_max), opt.eta_min);
-    if (sys.linearise) sys.linearise(u_);
-    sys.setup_preconditioner(u_);
-    KrylovOptions k = opt.krylov;
-    k.rel_tol = eta;
-    axpby(-1.0, r, 0.0, rhs);
-    fill(du, 0.0);
-    const KrylovResult lin = sys.symmetric ? cg(jacobian, sys.precondition, rhs, du, k)
-                                           : fgmres(jacobian, sys.precondition, rhs, du, k);
-    res.krylov_iterations += lin.iterations;
-    if (lin.reason == "NaN" || !std::isfinite(lin.final_residual) || !all_finite(du)) {
-      res.reason = "NaN";
-      break;
-    }
-    if (!(lin.final_residual < lin.initial_residual)) {
-      res.reason = "linear solver";
-      break;
-    }
-    const double g0 = dot(du, r);  // < 0 for a descent direction of the energy
-    double lo = 0, g_lo = g0, hi = 1, s = 1, best_norm = std::numeric_limits<double>::infinity();
-    // An indefinite tangent (compressed fibres, buckling) can give a direction along which the
-    // energy rises (G(0) >= 0): then plain halving on ||r||, as newton_solve does.
-    const bool descent = g0 < 0;
-    for (int trial_no = 0; trial_no <= opt.max_backtracks && (!descent || trial_no < 8);
-         ++trial_no) {
-      if (!descent) {
-        copy(u_, trial);
-        axpy(s, du, trial);
-        sys.residual(trial, r_trial);
-        const double rn = norm2(r_trial);
-        if (std::isfinite(rn) && rn < best_norm) {
-          best_norm = rn;
-          copy(trial, best);
-          copy(r_trial, r_best);
-        }
-        if (std::isfinite(rn) && rn < (1 - 1e-4 * s) * r_norm) break;
-        s *= 0.5;
-        continue;
-      }
-      copy(u_, trial);
-      axpy(s, du, trial);
-      sys.residual(trial, r_trial);
-      const double rn = norm2(r_trial);
-      const double g =
-          std::isfinite(rn) ? dot(du, r_trial) : std::numeric_limits<double>::quiet_NaN();
-      if (std::isfinite(rn) && rn < best_norm) {
-        best_norm = rn;
-        copy(trial, best);
-        copy(r_trial, r_best);
-      }
-      if (std::isfinite(g) && (std::abs(g) <= 0.8 * std::abs(g0) || (trial_no == 0 && rn < r_norm)))
-        break;
-      if (!std::isfinite(g) || g > 0) {
-        hi = s;
-        // Regula falsi between the last point with G < 0 and this one (bisection after a NaN).
-        s = std::isfinite(g) ? lo + (s - lo) * (-g_lo) / (g - g_lo) : 0.5 * (lo + s);
-      } else {
-        lo = s, g_lo = g;
-        s = 0.5 * (s + hi);
-        if (hi == s) break;
-      }
-      s = std::min(std::max(s, 0.05), 1.0);
-    }
-    if (!std::isfinite(best_norm)) {
-      res.reason = "line search failed";
-      break;
-    }
-    copy(best, u_);
-    copy(r_best, r);
-    r_prev = r_norm;
-    r_norm = best_norm;
-    ++res.iterations;
-    res.residual_history.push_back(r_norm);
-  }
-  return res;
-}
-
 NewtonResult StructureField::step_once(double dt, const std::string& label) {
   set_step_data(dt);
   // Predictor: constant velocity (dynamics) or no increment (quasi-static), then the prescribed
@@ -646,7 +516,12 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
     axpby(dt, v_, 0.0, u_);
   predict_dirichlet(label);
 
+  // The line search on G(s) = du . r(u + s du) (LineSearch::EnergyRegulaFalsi) instead of the
+  // residual norm: for slender or soft bodies under large rotations the stiff membrane and
+  // thickness directions dominate ||r||, so backtracking on it accepts steps of ~1e-3 and stalls
+  // (measured on Cook's membrane and a soft cantilever).
   NewtonOptions options = settings_.newton;
+  options.line_search = LineSearch::EnergyRegulaFalsi;
   stats_.last_step_krylov.clear();
   NewtonSystem sys;
   sys.residual = [this](ConstVector u, Vector r) {
@@ -672,10 +547,11 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
     if (!stats_.last_step_krylov.empty()) ++stats_.last_step_krylov.back();
   };
   sys.symmetric = settings_.use_cg;
+  sys.roundoff_floors = [this](ConstVector) { return std::vector<Real>{roundoff_floor()}; };
   NewtonResult result;
   {
     ScopedTimer t(stats_.seconds_solve);
-    result = newton(sys, options);
+    result = newton_solve(sys, u_, options);
   }
   stats_.newton_iterations += result.iterations;
   stats_.krylov_iterations += result.krylov_iterations;

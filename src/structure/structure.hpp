@@ -3,8 +3,9 @@
 // (Dirichlet per component from expressions in x, y, z, t; dead-load tractions; the out-of-plane
 // constraint of pseudo-2-D runs), one-step-theta in time or quasi-static load steps, Newton-Krylov
 // with BoomerAMG on the assembled tangent, and stresses and energies for output and verification.
-// What it may include: kernels/core, kernels/structure, src/mesh, src/solvers. It knows nothing of
-// scene files (src/io) or the driver (src/app); those depend on it.
+// What it may include: kernels/core, kernels/structure, src/mesh, src/solvers; only its
+// scene-section reader (parameters.hpp) includes src/io's reader helpers. The driver and the scene
+// depend on it.
 #pragma once
 
 #include <array>
@@ -171,7 +172,6 @@ class StructureField {
   void set_step_data(double dt);
   void predict_dirichlet(const std::string& label);
   double roundoff_floor() const;
-  NewtonResult newton(const NewtonSystem& sys, const NewtonOptions& opt);
   void setup_preconditioner(ConstVector u);
 
   Mesh mesh_;

@@ -116,8 +116,8 @@ inline std::unique_ptr<TurekHronFsi> make_turek_hron(
 
   FsiSettings fsi;
   fsi.interface = "fsi";
-  fsi.fixed_walls = {"walls", "inflow", "outflow", "cylinder"};
-  fsi.sliding_walls = {"front", "back"};
+  fsi.mesh_motion.fixed_walls = {"walls", "inflow", "outflow", "cylinder"};
+  fsi.mesh_motion.sliding_walls = {"front", "back"};
   fsi.shape_derivatives = shape;
   fsi.rel_tol = 1e-8;
   // Tighter block solves than the default: 52 instead of 313 outer iterations on FSI1 refine 2

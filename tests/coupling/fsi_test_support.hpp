@@ -75,8 +75,8 @@ inline LayerProblem make_layer_problem(const LayerParameters& p) {
                                       {"solid_right", {zero, zero, zero}}});
   FsiSettings fsi;
   fsi.interface = "solid_fluid";
-  fsi.fixed_walls = {"bottom", "top"};
-  fsi.sliding_walls = {"left", "right", "front", "back"};
+  fsi.mesh_motion.fixed_walls = {"bottom", "top"};
+  fsi.mesh_motion.sliding_walls = {"left", "right", "front", "back"};
   fsi.shape_derivatives = p.shape;
   fsi.rel_tol = 1e-10;
   fsi.max_iterations = p.max_iterations;

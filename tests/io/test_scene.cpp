@@ -153,18 +153,18 @@ TEST(Scene, ParsesEveryValueOfAFullScene) {
   EXPECT_FALSE(s.scalar.enabled);
   EXPECT_EQ(s.scalar.initial, "0.5 + 0.5*cos(0.2*_pi*x)");
   EXPECT_EQ(s.scalar.velocity, (std::array<std::string, 3>{"0.1*y", "0", "0"}));
-  EXPECT_FALSE(s.scalar.supg);
+  EXPECT_FALSE(s.scalar.settings.supg);
   const auto& bcs = s.scalar.boundary_conditions;
   ASSERT_EQ(bcs.size(), 3u);
   EXPECT_EQ(bcs[0].boundary, "top");
-  EXPECT_EQ(bcs[0].type, BcType::Dirichlet);
+  EXPECT_EQ(bcs[0].kind, ScalarBcKind::Dirichlet);
   EXPECT_EQ(bcs[0].value, "0.5 + 0.5*cos(0.2*_pi*x)");
   EXPECT_EQ(bcs[0].line, line_of(kFull, "{boundary: top"));
   EXPECT_EQ(bcs[1].boundary, "left");
-  EXPECT_EQ(bcs[1].type, BcType::Neumann);
+  EXPECT_EQ(bcs[1].kind, ScalarBcKind::Flux);
   EXPECT_EQ(bcs[1].value, "0");
   EXPECT_EQ(bcs[2].boundary, "right");
-  EXPECT_EQ(bcs[2].type, BcType::Robin);
+  EXPECT_EQ(bcs[2].kind, ScalarBcKind::Robin);
   EXPECT_EQ(bcs[2].coefficient, 2.5);
   EXPECT_EQ(bcs[2].value, "0.3");
   EXPECT_EQ(bcs[2].line, line_of(kFull, "{boundary: right"));
@@ -181,7 +181,7 @@ TEST(Scene, ParsesEveryValueOfAFullScene) {
   EXPECT_EQ(s.solver.linear_rel_tol, 1e-7);
   EXPECT_EQ(s.solver.linear_max_iterations, 400);
   EXPECT_EQ(s.solver.linear_restart, 40);
-  EXPECT_EQ(s.solver.scatter, "atomic");
+  EXPECT_EQ(s.solver.scatter, Scatter::Atomic);
 
   EXPECT_EQ(s.output.directory, "results");
   EXPECT_EQ(s.output.every, 2);
@@ -197,7 +197,7 @@ TEST(Scene, AppliesDefaultsWhenOptionalKeysAreAbsent) {
   EXPECT_EQ(s.scalar.enabled, d.scalar.enabled);
   EXPECT_EQ(s.scalar.initial, "0");
   EXPECT_EQ(s.scalar.velocity, d.scalar.velocity);
-  EXPECT_EQ(s.scalar.supg, d.scalar.supg);
+  EXPECT_EQ(s.scalar.settings.supg, d.scalar.settings.supg);
   EXPECT_TRUE(s.scalar.boundary_conditions.empty());
   EXPECT_EQ(s.time.mode, TimeMode::Transient);
   EXPECT_EQ(s.time.theta, d.time.theta);
@@ -208,7 +208,7 @@ TEST(Scene, AppliesDefaultsWhenOptionalKeysAreAbsent) {
   EXPECT_EQ(s.solver.linear_rel_tol, d.solver.linear_rel_tol);
   EXPECT_EQ(s.solver.linear_max_iterations, d.solver.linear_max_iterations);
   EXPECT_EQ(s.solver.linear_restart, d.solver.linear_restart);
-  EXPECT_EQ(s.solver.scatter, "colored");
+  EXPECT_EQ(s.solver.scatter, Scatter::Colored);
   EXPECT_EQ(s.output.directory, d.output.directory);
   EXPECT_EQ(s.output.every, 1);
   EXPECT_TRUE(s.output.flux_boundaries.empty());
@@ -504,33 +504,34 @@ std::string with_fluid(const std::string& scene) {
 
 TEST(Scene, ReadsTheFluidField) {
   const Scene s = parse_scene(with_fluid(kFull), kFile);
-  const FluidFieldSpec& f = s.fluid;
-  EXPECT_TRUE(f.enabled);
+  const FluidSettings& f = s.fluid.settings;
+  EXPECT_TRUE(s.fluid.enabled);
   EXPECT_EQ(f.blocks, std::vector<std::string>{"fluid"});
   EXPECT_EQ(f.density, 1e-3);
   EXPECT_EQ(f.viscosity, 1e-3);
-  EXPECT_EQ(f.mode, "transient");
+  EXPECT_EQ(s.fluid.mode, FlowMode::Transient);
   EXPECT_FALSE(f.supg);
   EXPECT_FALSE(f.grad_div);
   EXPECT_FALSE(f.transient_tau);
   EXPECT_TRUE(f.pseudo_2d);
   EXPECT_FALSE(f.symmetric_viscous);
-  EXPECT_EQ(f.preconditioner, "simplec");
-  ASSERT_EQ(f.boundary_conditions.size(), 5u);
-  EXPECT_EQ(f.boundary_conditions[0].type, "velocity");
-  EXPECT_EQ(f.boundary_conditions[0].value[0], "0.0375 + 0.0125*y");
-  EXPECT_EQ(f.boundary_conditions[1].boundary, "biofilm_fluid");
-  EXPECT_EQ(f.boundary_conditions[1].type, "no_slip");
-  EXPECT_EQ(f.boundary_conditions[4].value[0], "1 + t");
-  EXPECT_EQ(f.boundary_conditions[2].line, line_of(with_fluid(kFull), "type: slip"));
+  EXPECT_EQ(f.preconditioner, FluidPreconditioner::SimpleC);
+  const auto& fbcs = s.fluid.boundary_conditions;
+  ASSERT_EQ(fbcs.size(), 5u);
+  EXPECT_EQ(fbcs[0].type, FluidBcType::Velocity);
+  EXPECT_EQ(fbcs[0].value[0], "0.0375 + 0.0125*y");
+  EXPECT_EQ(fbcs[1].boundary, "biofilm_fluid");
+  EXPECT_EQ(fbcs[1].type, FluidBcType::NoSlip);
+  EXPECT_EQ(fbcs[4].value[0], "1 + t");
+  EXPECT_EQ(fbcs[2].line, line_of(with_fluid(kFull), "type: slip"));
   EXPECT_FALSE(parse_scene(kFull, kFile).fluid.enabled);
   // Defaults: the symmetric viscous form of eq. 2 and SIMPLE (the measured best).
   const Scene d =
       parse_scene(replaced(replaced(with_fluid(kFull), "    viscous_form: gradient\n", ""),
                            "    preconditioner: simplec\n", ""),
                   kFile);
-  EXPECT_TRUE(d.fluid.symmetric_viscous);
-  EXPECT_EQ(d.fluid.preconditioner, "simple");
+  EXPECT_TRUE(d.fluid.settings.symmetric_viscous);
+  EXPECT_EQ(d.fluid.settings.preconditioner, FluidPreconditioner::Simple);
 }
 
 TEST(Scene, RejectsBadFluidInput) {
@@ -562,7 +563,7 @@ TEST(SceneOverrides, ChangeValuesIncludingListEntries) {
   EXPECT_EQ(s.time.dt, 0.25);
   EXPECT_EQ(s.box.blocks[1].ny, 40);
   EXPECT_EQ(s.box.blocks[0].grading, 2.0);
-  EXPECT_TRUE(s.scalar.supg);
+  EXPECT_TRUE(s.scalar.settings.supg);
   EXPECT_EQ(s.scalar.velocity, (std::array<std::string, 3>{"1", "0", "t"}));
   EXPECT_EQ(s.scalar.boundary_conditions[0].value, "0.75");
   EXPECT_EQ(s.output.flux_boundaries, (std::vector<std::string>{"biofilm_fluid", "top"}));
@@ -642,24 +643,24 @@ std::string with_structure(const std::string& scene) {
 TEST(Scene, ReadsTheStructureFieldAndTheCoupling) {
   const Scene s = parse_scene(with_structure(kFull), kFile);
   EXPECT_TRUE(s.structure.enabled);
-  EXPECT_EQ(s.structure.blocks, std::vector<std::string>{"biofilm"});
-  EXPECT_EQ(s.structure.mode, "dynamic");
-  EXPECT_TRUE(s.structure.plane_strain);
+  EXPECT_EQ(s.structure.settings.blocks, std::vector<std::string>{"biofilm"});
+  EXPECT_FALSE(s.structure.settings.quasi_static);
+  EXPECT_TRUE(s.structure.settings.plane_strain);
   ASSERT_EQ(s.structure.boundary_conditions.size(), 2u);
-  EXPECT_EQ(s.structure.boundary_conditions[0].type, "fixed");
-  EXPECT_EQ(s.structure.boundary_conditions[1].type, "displacement");
+  EXPECT_TRUE(s.structure.boundary_conditions[0].fixed);
+  EXPECT_FALSE(s.structure.boundary_conditions[1].fixed);
   EXPECT_EQ(s.structure.boundary_conditions[1].value[0], "0.01*t");
   EXPECT_EQ(s.structure.boundary_conditions[1].value[1], "free");
   const MaterialSpec& m = s.materials.at("biofilm");
   EXPECT_TRUE(m.elastic);
-  EXPECT_EQ(m.model, "neo_hooke");
+  EXPECT_TRUE(m.neo_hooke);
   EXPECT_EQ(m.youngs_modulus, 1e-6);
   EXPECT_EQ(m.poisson_ratio, 0.3);
   EXPECT_EQ(m.density, 1e-3);
   EXPECT_EQ(s.fsi.interface, "biofilm_fluid");
-  EXPECT_EQ(s.fsi.shape_derivatives, "none");
-  EXPECT_EQ(s.fsi.fixed_walls, (std::vector<std::string>{"bottom", "top"}));
-  EXPECT_EQ(s.fsi.sliding_walls, (std::vector<std::string>{"left", "right"}));
+  EXPECT_EQ(s.fsi.shape_derivatives, ShapeDerivatives::None);
+  EXPECT_EQ(s.fsi.mesh_motion.fixed_walls, (std::vector<std::string>{"bottom", "top"}));
+  EXPECT_EQ(s.fsi.mesh_motion.sliding_walls, (std::vector<std::string>{"left", "right"}));
   EXPECT_EQ(s.fsi.rel_tol, 1e-7);
   EXPECT_EQ(s.fsi.max_iterations, 12);
   EXPECT_FALSE(parse_scene(kFull, kFile).structure.enabled);

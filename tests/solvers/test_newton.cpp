@@ -1,6 +1,8 @@
 // Newton's method: quadratic convergence with tight forcing, Eisenstat-Walker forcing saving
 // Krylov work, the line search globalising a problem on which plain Newton diverges, and failures
-// (NaN, no linear progress, iteration limit) reported through the result instead of exceptions.
+// (NaN, no linear progress, iteration limit) reported through the result instead of exceptions;
+// the optional pieces: per-block norms and tolerances, admissible states, the energy line search
+// and round-off floors.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -285,4 +287,152 @@ TEST(Newton, StopsAtMaxIterations) {
   EXPECT_EQ(res.iterations, 1);
   EXPECT_EQ(res.residual_history.size(), 2u);
   EXPECT_GT(res.krylov_iterations, 0);
+}
+
+// ---- the optional pieces: blocks, admissible states, the energy line search, round-off floors
+// ----
+
+namespace {
+
+// atan(u) = 0 with the second half of the residual scaled by 1e8: two "fields" in different units.
+NewtonSystem two_unit_atan(int n) {
+  NewtonSystem s = diagonal_system(atan_residual, atan_tangent);
+  s.residual = [n](ConstVector u, Vector r) {
+    atan_residual(u, r);
+    scale(1e8, Kokkos::subview(r, std::make_pair(n / 2, n)));
+  };
+  s.tangent = [n](ConstVector u, ConstVector du, Vector y) {
+    atan_tangent(u, du, y);
+    scale(1e8, Kokkos::subview(y, std::make_pair(n / 2, n)));
+  };
+  // The exact inverse of the (diagonal) tangent at the linearisation point, as a field's
+  // preconditioner would approximate it.
+  auto at = std::make_shared<Vector>("test::linearisation_point", n);
+  s.linearise = [at](ConstVector u) { copy(u, *at); };
+  s.precondition = [at, n](ConstVector x, Vector z) {
+    const Vector u = *at;
+    Kokkos::parallel_for(
+        "test::atan_inverse", Policy(0, n),
+        KOKKOS_LAMBDA(int i) { z(i) = x(i) * (1 + u(i) * u(i)) * (i < n / 2 ? 1.0 : 1e-8); });
+  };
+  s.symmetric = false;
+  s.blocks = {{0, n / 2}, {n / 2, n}};
+  return s;
+}
+
+}  // namespace
+
+TEST(Newton, EachBlockMeetsItsOwnTolerance) {
+  // The first block starts at u = 1, the second, in units 1e8 times larger, nearer its root
+  // (u = 0.1): one norm over both is the second block's, whose relative tolerance the first
+  // block's residual meets long before it has converged (after two Newton steps, at u = 0.117).
+  const int n = 40;
+  auto start = [n] {
+    std::vector<double> u(n, 1.0);
+    for (int i = n / 2; i < n; ++i) u[i] = 0.1;
+    return to_device(u, "u");
+  };
+  auto first_block_norm = [n](const Vector& u) {
+    double sum = 0;
+    const std::vector<double> h = to_host(u);
+    for (int i = 0; i < n / 2; ++i) sum += std::pow(std::atan(h[i]), 2);
+    return std::sqrt(sum);
+  };
+  NewtonOptions opt;
+  opt.rel_tol = 1e-8;
+  opt.abs_tol = 0;
+  Vector u = start();
+  const double first0 = first_block_norm(u);
+  NewtonSystem one_norm = two_unit_atan(n);
+  one_norm.blocks.clear();
+  const NewtonResult plain = newton_solve(one_norm, u, opt);
+  ASSERT_TRUE(plain.converged) << plain.reason;
+  EXPECT_GT(first_block_norm(u), 100 * opt.rel_tol * first0);
+
+  opt.line_search = LineSearch::BlockMerit;
+  opt.scale_blocks = true;
+  opt.tolerance_from_largest = true;
+  Vector v = start();
+  const NewtonResult res = newton_solve(two_unit_atan(n), v, opt);
+  ASSERT_TRUE(res.converged) << res.reason;
+  ASSERT_EQ(res.block_history.size(), res.residual_history.size());
+  ASSERT_EQ(res.krylov_history.size(), size_t(res.iterations));
+  for (int b = 0; b < 2; ++b) {
+    double largest = 0;
+    for (const auto& norms : res.block_history) largest = std::max(largest, norms[b]);
+    EXPECT_LE(res.block_history.back()[b], opt.rel_tol * largest) << "block " << b;
+  }
+  EXPECT_LE(first_block_norm(v), opt.rel_tol * first0);
+}
+
+TEST(Newton, InadmissibleTrialsAreShortenedWithoutEvaluatingThere) {
+  // sqrt(u) = 1/2 from u = 4: the full step lands at u = -2, outside the residual's domain. With
+  // the domain declared, no line search evaluates the residual there.
+  for (LineSearch search :
+       {LineSearch::ResidualArmijo, LineSearch::EnergyRegulaFalsi, LineSearch::BlockMerit}) {
+    auto outside = std::make_shared<int>(0);
+    auto nonnegative = [](ConstVector u) {
+      for (double v : to_host(u))
+        if (v < 0) return false;
+      return true;
+    };
+    NewtonSystem s = diagonal_system(sqrt_residual, sqrt_tangent);
+    s.residual = [outside, nonnegative](ConstVector u, Vector r) {
+      if (!nonnegative(u)) ++*outside;
+      sqrt_residual(u, r);
+    };
+    s.admissible = nonnegative;
+    NewtonOptions opt;
+    opt.line_search = search;
+    Vector u("u", 10);
+    fill(u, 4.0);
+    const NewtonResult res = newton_solve(s, u, opt);
+    EXPECT_TRUE(res.converged) << res.reason;
+    EXPECT_EQ(*outside, 0) << "line search " << int(search);
+    for (double v : to_host(u)) EXPECT_NEAR(v, 0.25, 1e-9);
+  }
+}
+
+TEST(Newton, EnergyLineSearchGlobalisesArctan) {
+  // atan(u) is the gradient of the convex E(u) = u atan(u) - log(1 + u^2) / 2, so G(s) =
+  // du . r(u + s du) is E's slope along the step: the regula falsi on it finds the minimum where
+  // the full step (from u = 3) overshoots into plain Newton's divergence.
+  NewtonOptions opt;
+  opt.line_search = LineSearch::EnergyRegulaFalsi;
+  Vector u = atan_start(100);
+  const NewtonResult res = newton_solve(diagonal_system(atan_residual, atan_tangent), u, opt);
+  EXPECT_TRUE(res.converged) << res.reason;
+  for (double v : to_host(u)) EXPECT_LE(std::abs(v), 1e-9);
+}
+
+TEST(Newton, StopsAtTheRoundoffFloor) {
+  // u^2 = 2 has no root among the doubles: the residual stagnates at ~4e-16 and a tolerance of
+  // 1e-40 ||r0|| cannot be met. A floor declared at 1e-6 ||r0|| ends the solve there, converged.
+  NewtonSystem s;
+  s.residual = [](ConstVector u, Vector r) {
+    Kokkos::parallel_for(
+        "test::square_residual", Policy(0, u.extent(0)),
+        KOKKOS_LAMBDA(int i) { r(i) = u(i) * u(i) - 2; });
+  };
+  s.tangent = [](ConstVector u, ConstVector du, Vector y) {
+    Kokkos::parallel_for(
+        "test::square_tangent", Policy(0, u.extent(0)),
+        KOKKOS_LAMBDA(int i) { y(i) = 2 * u(i) * du(i); });
+  };
+  s.symmetric = true;
+  NewtonOptions opt;
+  opt.rel_tol = 1e-40;
+  opt.abs_tol = 0;
+  Vector u("u", 20);
+  fill(u, 1.0);
+  const NewtonResult without = newton_solve(s, u, opt);
+  EXPECT_FALSE(without.converged);
+  const double r0 = without.residual_history.front();
+  s.roundoff_floors = [r0](ConstVector) { return std::vector<Real>{1e-6 * r0}; };
+  Vector v("v", 20);
+  fill(v, 1.0);
+  const NewtonResult with = newton_solve(s, v, opt);
+  EXPECT_TRUE(with.converged) << with.reason;
+  EXPECT_LE(with.residual_history.back(), 1e-6 * r0);
+  for (double x : to_host(v)) EXPECT_NEAR(x, std::sqrt(2.0), 1e-5);
 }

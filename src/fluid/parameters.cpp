@@ -1,0 +1,114 @@
+#include "fluid/parameters.hpp"
+
+#include "io/expression.hpp"
+
+namespace biofsi {
+
+using namespace scene_input;
+
+namespace {
+
+const std::vector<std::pair<std::string, FluidBcType>> kBcTypes = {
+    {"velocity", FluidBcType::Velocity},
+    {"no_slip", FluidBcType::NoSlip},
+    {"slip", FluidBcType::Slip},
+    {"pressure", FluidBcType::Pressure},
+    {"do_nothing", FluidBcType::DoNothing}};
+
+std::string bc_type_name(FluidBcType t) {
+  for (const auto& [name, type] : kBcTypes)
+    if (type == t) return name;
+  return "?";
+}
+
+FluidBcSpec read_boundary_condition(const MapView& typed, int line, const std::string& boundary) {
+  const Checker& c = typed.checker();
+  FluidBcSpec bc;
+  bc.line = line;
+  bc.boundary = boundary;
+  bc.type = get_enum(typed, "type", kBcTypes, {});
+  const bool has_value = bc.type == FluidBcType::Velocity || bc.type == FluidBcType::Pressure;
+  if (auto v = typed.get("value")) {
+    if (!has_value)
+      c.fail(*v, typed.key("value"), "a " + bc_type_name(bc.type) + " condition takes no value",
+             render(*v), "no value key");
+    if (bc.type == FluidBcType::Velocity) {
+      const std::string expected = "a list of 3 expressions (velocity components)";
+      if (!v->IsSequence() || v->size() != 3) c.wrong_type(*v, typed.key("value"), expected);
+      for (size_t d = 0; d < 3; ++d)
+        bc.value[d] = expression(c, (*v)[d], index_key(typed.key("value"), d));
+    } else {
+      bc.value[0] = expression(c, *v, typed.key("value"));
+    }
+  } else if (has_value) {
+    typed.missing("value",
+                  bc.type == FluidBcType::Velocity ? "a list of 3 expressions" : "an expression",
+                  "");
+  }
+  return bc;
+}
+
+}  // namespace
+
+FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
+  FluidSection section;
+  auto node = fields.get("fluid");
+  if (!node) return section;
+  MapView m(
+      fields.checker(), *node, fields.key("fluid"),
+      {"enabled", "blocks", "density", "viscosity", "mode", "supg", "grad_div", "transient_tau",
+       "pseudo_2d", "viscous_form", "preconditioner", "boundary_conditions"});
+  FluidSettings& s = section.settings;
+  section.enabled = get_bool(m, "enabled", true);
+  s.blocks = block_list(m, "blocks", names.blocks, "the blocks that hold fluid");
+  auto positive = [](double v) { return v > 0; };
+  s.density = get_number(m, "density", positive, "a number > 0 [mass/mm^3]", std::nullopt);
+  s.viscosity =
+      get_number(m, "viscosity", positive, "a number > 0 (dynamic) [mass/(mm ms)]", std::nullopt);
+  section.mode =
+      get_enum(m, "mode", {{"steady", FlowMode::Steady}, {"transient", FlowMode::Transient}},
+               std::optional<FlowMode>(section.mode));
+  s.supg = get_bool(m, "supg", s.supg);
+  s.grad_div = get_bool(m, "grad_div", s.grad_div);
+  s.transient_tau = get_bool(m, "transient_tau", s.transient_tau);
+  s.pseudo_2d = get_bool(m, "pseudo_2d", s.pseudo_2d);
+  s.symmetric_viscous = get_enum(m, "viscous_form", {{"symmetric", true}, {"gradient", false}},
+                                 std::optional<bool>(s.symmetric_viscous));
+  s.preconditioner = get_enum(m, "preconditioner",
+                              {{"simple", FluidPreconditioner::Simple},
+                               {"simplec", FluidPreconditioner::SimpleC},
+                               {"monolithic_amg", FluidPreconditioner::MonolithicAmg}},
+                              std::optional<FluidPreconditioner>(s.preconditioner));
+  for_each_boundary_condition(
+      m, "fluid", names.face_sets,
+      [&](const MapView& typed, int line, const std::string& boundary) {
+        section.boundary_conditions.push_back(read_boundary_condition(typed, line, boundary));
+      });
+  return section;
+}
+
+std::vector<FluidBoundaryCondition> fluid_boundary_conditions(const FluidSection& section) {
+  std::vector<FluidBoundaryCondition> out;
+  for (const auto& bc : section.boundary_conditions) switch (bc.type) {
+      case FluidBcType::Velocity:
+        out.push_back(fluid_velocity(bc.boundary, space_time_function(bc.value[0]),
+                                     space_time_function(bc.value[1]),
+                                     space_time_function(bc.value[2])));
+        break;
+      case FluidBcType::NoSlip:
+        out.push_back(fluid_no_slip(bc.boundary));
+        break;
+      case FluidBcType::Slip:
+        out.push_back(fluid_slip(bc.boundary));
+        break;
+      case FluidBcType::Pressure:
+        out.push_back(fluid_pressure(bc.boundary, space_time_function(bc.value[0])));
+        break;
+      case FluidBcType::DoNothing:
+        out.push_back(fluid_do_nothing(bc.boundary));
+        break;
+    }
+  return out;
+}
+
+}  // namespace biofsi

@@ -1,0 +1,47 @@
+#include "growth/parameters.hpp"
+
+namespace biofsi {
+
+using namespace scene_input;
+
+GrowthSection read_growth_section(const Checker& c, const Node& node, const MeshNames& names,
+                                  const std::vector<std::string>& stacked_blocks,
+                                  const MeshMotionSettings& mesh_motion) {
+  GrowthSection g;
+  GrowthSettings& s = g.settings;
+  s.mesh_motion = mesh_motion;
+  if (!node.IsDefined() || node.IsNull()) return g;
+  MapView m(c, node, "growth",
+            {"enabled", "interface", "biofilm_block", "k1", "k2", "dt_bio", "steps", "averaging",
+             "window", "output_every", "checkpoint"});
+  g.enabled = get_bool(m, "enabled", true);
+  s.interface_set =
+      boundary_name(c, m.require("interface", "the face set of the biofilm-fluid interface"),
+                    m.key("interface"), names.face_sets);
+  g.biofilm_block = get_choice(m, "biofilm_block", names.blocks, std::nullopt);
+  // The interface's faces belong to the block below it; that block is the one that grows.
+  const auto& bs = stacked_blocks;
+  for (size_t i = 0; i + 1 < bs.size(); ++i)
+    if (s.interface_set == bs[i] + "_" + bs[i + 1] && g.biofilm_block != bs[i])
+      c.fail(*m.get("biofilm_block"), m.key("biofilm_block"),
+             "the interface's faces belong to block '" + bs[i] + "'", g.biofilm_block,
+             "'" + bs[i] + "'");
+  auto nonnegative = [](double v) { return v >= 0; };
+  s.k1 = get_number(m, "k1", nonnegative,
+                    "a number >= 0 [mm per ms per unit flux density] (growth by substrate flux)",
+                    std::nullopt);
+  s.k2 = get_number(m, "k2", nonnegative, "a number >= 0 (erosion by shear stress)", 0.0);
+  s.dt_bio = get_number(
+      m, "dt_bio", [](double v) { return v > 0; }, "a finite number > 0 [ms]", std::nullopt);
+  g.steps = get_int(m, "steps", 1, std::nullopt);
+  g.averaging =
+      get_enum(m, "averaging",
+               {{"stationary", GrowthAveraging::Stationary}, {"window", GrowthAveraging::Window}},
+               std::optional<GrowthAveraging>(g.averaging));
+  g.window = get_int(m, "window", 1, g.window);
+  g.output_every = get_int(m, "output_every", 1, g.output_every);
+  g.checkpoint = get_bool(m, "checkpoint", g.checkpoint);
+  return g;
+}
+
+}  // namespace biofsi
