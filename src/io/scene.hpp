@@ -67,8 +67,8 @@ struct FluidBc {
 };
 
 // The fluid (paper eqs. 2-5) on `blocks`; other blocks' nodes are held at rest (a rigid biofilm
-// until the structure is coupled). Its velocity convects the scalar, and its wall shear stress on
-// the growth interface is sigma in eq. 11.
+// unless fields.structure makes it elastic). Its velocity convects the scalar, and its wall shear
+// stress on the growth interface is sigma in eq. 11.
 struct FluidFieldSpec {
   bool enabled = false;  // true when the scene has a fields.fluid section, unless enabled: false
   std::vector<std::string> blocks;
