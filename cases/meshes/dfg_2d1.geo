@@ -4,8 +4,8 @@
 //
 // Block-structured all-quad mesh (12 transfinite patches): an O-grid ring between the cylinder and
 // the box [0.1,0.3]^2, graded towards the cylinder, channel patches around it and a wake that
-// coarsens downstream; the same layout as turek_hron.geo without the flag. Why structured: on the
-// earlier unstructured blossom mesh the lift was +26% off at refine 2 and swung by +-20% with the
+// coarsens downstream; the same layout as turek_hron.geo without the flag. Why structured: on an
+// unstructured blossom mesh the lift is +26% off at refine 2 and swings by +-20% with the
 // grad-div parameter, the distorted quads that subdividing triangles leaves polluting the
 // discrete mass balance that the small lift (c_L/c_D ~ 2e-3) depends on.
 // Parameters (gmsh -setnumber NAME VALUE): refine (every division count scales with refine, every

@@ -5,8 +5,8 @@
 // Block-structured all-quad mesh (21 transfinite patches): an O-grid ring between the cylinder and
 // the box [0.1,0.3]^2, graded towards the cylinder; the flag in two patches (root inside the ring,
 // the rest outside), with the fluid rows next to it graded towards it; channel patches around, and
-// a wake that coarsens downstream. Why structured: on the earlier unstructured blossom mesh the
-// lift converged slowly (CFD1 +7.8% at refine 2, +5.1% at refine 4), the Q1-Q1 solution being
+// a wake that coarsens downstream. Why structured: on an unstructured blossom mesh the lift
+// converges slowly (CFD1 +7.8% at refine 2, +5.1% at refine 4), the Q1-Q1 solution being
 // sensitive to the distorted quads that subdividing triangles leaves.
 // Parameters (gmsh -setnumber NAME VALUE): refine (1 = coarse; every division count scales with
 // refine, every grading ratio with its refine-th root, so that the meshes are nested in shape);

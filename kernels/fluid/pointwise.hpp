@@ -1,7 +1,7 @@
 // kernels/fluid: pointwise physics of the incompressible fluid (paper eqs. 2-5) in ALE form on
 // hex8 with equal-order Q1-Q1 velocity/pressure and residual-based stabilisation. Used by
-// src/fluid (and, later, the FSI coupling); depends on kernels/core only. Nothing here knows of
-// meshes, boundary conditions or solvers.
+// src/fluid (and through it by the FSI coupling); depends on kernels/core only. Nothing here
+// knows of meshes, boundary conditions or solvers.
 //
 // Unknowns per node: (u, v, w, p), interleaved. One-step-theta in its midpoint form (theta = 1,
 // inv_dt = 0 gives the steady problem): every term is evaluated at the state
@@ -20,7 +20,7 @@
 // generalized-alpha method of Jansen, Whiting & Hulbert (CMAME 190 (2000) 305) with rho_inf = 1.
 // Why every term at one time level: the stabilisation terms contain the time derivative, so
 // the continuity equation is a differential one; with the trapezoidal form (convection and
-// viscosity averaged, continuity, SUPG, PSPG and tau at t_{n+1}) Crank-Nicolson was first order
+// viscosity averaged, continuity, SUPG, PSPG and tau at t_{n+1}) Crank-Nicolson is first order
 // (tests/fluid/test_fluid_time_order.cpp). All terms live on the current configuration, so a
 // constant state is an exact discrete solution under any mesh motion (GCL).
 //

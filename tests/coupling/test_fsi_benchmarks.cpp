@@ -10,11 +10,11 @@
 //   refine 2 (23704 nodes): u_x(A) +1.16%, u_y(A) -0.51%, drag +0.28%, lift +0.94%;
 //                           7 Newton, 52 outer FGMRES (3 8 8 8 10 10 5), 490 s on 1 thread
 //                           (the fluid block's SIMPLE-preconditioned inner solves: 399 s)
-// With the earlier inner tolerance 1e-2 refine 2 took 313 outer iterations and 1191 s on 2
-// threads, which kept it out of CI; the table of tolerances is at FsiSettings::inner_tolerance.
+// With the scenes' inner tolerance 1e-2 refine 2 takes 313 outer iterations and 1191 s on 2
+// threads, too slow for CI; the table of tolerances is at FsiSettings::inner_tolerance.
 // Tolerances, and why: the 2% for every quantity, on the CI mesh. Refine 1 (4 elements
-// through the flag) is not fine enough for 2%: u_x and lift are 3.3% off. Tried for a cheaper CI
-// mesh: refine 1 with only the flag (and the fluid rows along it) at refine 2, 9348 nodes:
+// through the flag) is not fine enough for 2%: u_x and lift are 3.3% off. Cheaper CI meshes
+// measured: refine 1 with only the flag (and the fluid rows along it) at refine 2, 9348 nodes:
 // u_y -0.45% but u_x +3.59%, drag +0.98%, lift +2.18%; and refine 1 with one family of
 // divisions raised at a time (the .geo's c_* overrides, 1 thread):
 //   c_flag 60 (7156 nodes): u_x +3.33%, u_y -2.40%, drag +0.91%, lift +3.07%, 98 s

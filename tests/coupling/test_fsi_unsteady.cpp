@@ -1,105 +1,45 @@
 // Turek & Hron (2006) FSI2 and FSI3: the elastic flag behind the cylinder oscillating in the flow
 // it sheds (fsi_benchmarks.hpp), run from rest to a periodic state and compared with the
 // benchmark's mean, amplitude and frequency of u_x(A), u_y(A), drag and lift. Label long: on the
-// development machine FSI2 takes ~3 h on 2 threads (turek_hron_wake, the refine-1 body with a
-// finer wake on which CFD3 passes) and FSI3 ~9 h on one thread (490 steps, 35-110 s a step on
-// turek_hron_flag, that mesh with refine 2's flag).
+// development machine FSI2 takes ~3 h on 2 threads (440 steps on turek_hron_wake, the refine-1
+// body with a finer wake on which CFD3 passes) and FSI3 ~9 h on one thread (490 steps, 35-110 s a
+// step on turek_hron_flag, that mesh with refine 2's flag).
 //
 // Each case runs in stages (UnsteadyCase::stages): a start-up with a large step (and for FSI2
 // theta 0.52, which damps the swing but survives its growth), then the periodic state measured
 // with Crank-Nicolson and a smaller step, each stage continuing from the state the last reached.
 //
-// Status (stop 29): both pass. FSI3 is now checked against the benchmark authors' finest row
-// (Featflow level 4, dt 0.00025 s; fsi3() gives the source and the checks on it) instead of the
-// 2006 proposal's summary row, whose drag amplitude, 22.66, is 18% below that row's 27.74. The
-// test's stages from rest on turek_hron_flag to t = 3.4 s (stops 24-27, series analysed with
-// BIOFSI_FSI_FROM_SERIES): u_y(A) amplitude -1.1% at -2.3% frequency, u_x(A) mean -0.7% and
-// amplitude -3.6%, drag 460.2 +- 26.9 (mean -0.06%, amplitude -3.1%), lift +-159.8 (+3.8%), all
-// frequencies within 2.3%; against the 2006 row the drag amplitude is +18.6% and the lift +6.7%
-// (reported too): stops 22-28 below chased that difference. Not settled: on the 1.5x-refined
-// mesh (stops 28-29, ~1.3 swings after the transfer) u_y(A), u_x(A), lift and frequency come
-// within 1.1% of the finer row and the drag amplitude goes to +16% (README, "Known limits").
+// Measured with the default stages from rest (docs/validation.md has the full tables):
+//   FSI2 to t = 6.6 s (no cut step): u_y(A) amplitude -3.4%, lift -6.2%, drag amplitude -6.6%,
+//   the rest within 5.3% (fsi2() lists everything).
+//   FSI3 to t = 3.4 s (no cut step), against the benchmark authors' finest row (fsi3() gives the
+//   source): u_y(A) amplitude -1.1% at -2.3% frequency, u_x(A) mean -0.7% and amplitude -3.6%,
+//   drag 460.2 +- 26.9 (mean -0.06%, amplitude -3.1%), lift +-159.8 (+3.8%), all frequencies
+//   within 2.3%. Against the 2006 proposal's summary row, reported beside it, the drag amplitude
+//   is +18.6% and the lift +6.7%: that row's drag amplitude, 22.66, is 18% below the finer row's
+//   27.74. The drag amplitude is not mesh-converged: the t = 3.4 s state moved onto the 1.5x
+//   refinement of turek_hron_flag (43086 nodes) and run to t = 3.69 s (~1.3 swings after the
+//   transfer) gives u_y(A) 1.42e-3 +- 3.521e-2 at 5.48 Hz, u_x(A) +-2.71e-3 and lift +-155.6, all
+//   within ~1% of the finer row, but drag 426.6-491.0 (+-32.2, +16%) (docs/known-limits.md).
 //
-// Status (stop 22). FSI2 with the fluid's midpoint form (second order since stop 17) passes with
-// room, run with the default stages from rest to t = 6.6 s (stops 20-21, no cut step): u_y(A)
-// -3.4%, lift -6.2%, drag amplitude -6.6%, the rest within 5.3% (fsi2() lists everything).
-// FSI3, run with the default stages from rest to t = 4.4 s with the midpoint form (stops 21-22,
-// 730 steps, no cut step, the fluid mesh's smallest scaled Jacobian 0.548): fails on its force
-// amplitudes only. Over the last period: u_y(A) -1.8% at 5.43 Hz (+2.4%), u_x(A) mean -3.2%,
-// amplitude -1.9% at 10.86 Hz (-0.3%), drag mean -0.1% at 10.83 Hz (-0.7%), lift frequency
-// +2.5%; but lift 174.1 (+16.6%) and drag amplitude 28.9 (+27.3%); periodic (lift half-period
-// peaks 174-182 over t = 3.77-4.32 s). The former trapezoidal form gave lift +20.5% and drag
-// amplitude +27% (stop 16, dt 0.0025, from the dt 0.005 chain): the time scheme moved the lift
-// by 4 points and the drag amplitude not at all. Of the forces, the flag carries lift +-180.8
-// and drag -16.3 +- 26.5, the cylinder lift +-112.3 and drag 472.9 +- 2.6 at 10.73 Hz (until stop
-// 22 the analysis took its crossing level from the window's extremes, and the one-step kink where
-// the stage changes dt, t = 3.7025 s, hid this small oscillation: "+-9.2 at 194 Hz"). The drag's
-// split depends on the pressure level, though (TurekHronFsi::ForceParts), so it does not show
-// which body carries the excess. For comparison the fluid alone on this mesh, CFD3
-// (tests/fluid/test_fluid_unsteady.cpp), has its lift amplitude 9.6% low. dt 0.00125 from the t
-// = 4.4 s state (to 4.76 s) left the lift's half-period peaks at 177-183.
-// Stop 23: BIOFSI_FSI_MESH=turek_hron_flag (the wake mesh with refine 2's flag, whose stiffness
-// error is a fifth of refine 1's in CSM3; CFD3 passes on it, lift -7.4%) is the next FSI3
-// measurement, started in stop 24: its steps cost 2.1x the wake mesh's (the first 13 from rest, one
-// thread: 516 s against 248 s), ~10 hours from rest. BIOFSI_FSI_NEWTON_TOL=1e-4 saved 24% of the
-// first 137 steps on the wake mesh (to t = 1.37 s, one thread) and moved u_y(A) by 4e-6 and the
-// lift by 1.3e-4 of their largest values (stop 24 compared it in the periodic state; FSI3 now
-// uses it).
-// Stop 24 (wake mesh, Newton tolerance 1e-4, from the t = 1.8 s state: dt 0.01 to 2.9 s, then
-// 0.0025): not Crank-Nicolson's step-to-step mode (a dt change starts one on the cylinder's drag,
-// +-37 at onset, decaying ~9% a step; the periodic amplitudes move <= 2% when it is averaged
-// out), not the step (the dt 0.01 stage already has lift +18% at u_y(A) +2.4%), not the
-// tolerance (at t = 3.4 s, 0.5 s at dt 0.0025: u_y(A) -1.5%, lift +15.8%, drag amplitude +20.3%,
-// the period before +21% and +30%: the spread of stop 22's run with 1e-6).
-// The flag's lift leads u_y(A) by 153 degrees: inertia-dominated, so a too-stiff flag alone does
-// not predict the excess; FSI3 on turek_hron_flag was started (README, "Known limits").
-// Stop 25: the lift is an interference sum. Fitted over one period at t = 3.2-3.4 s (wake mesh,
-// dt 0.0025) the flag's part is +-183 at 153 degrees from u_y(A), the cylinder's +-111 at 43;
-// 110 degrees apart they sum to +-179, and 125 degrees apart the same parts would give the
-// reference's +-150, so a 15-degree phase error of the shedding against the swing is enough. The
-// turek_hron_flag chain, resumed from t = 1.3 s (dt 0.01, one thread, 35-111 s a step, no cut
-// step), reached t = 2.6 s: at equal swing it carries less lift than the wake mesh, 6% at u_y(A)
-// +-0.040 and ~20% in the overshoot (t = 2.55-2.6 s, +-0.042: +-182 and +-150 against +-230 and
-// +-187, the cylinder's part 7-10 degrees earlier); not yet the periodic state. Its checkpoint
-// continues with BIOFSI_FSI_STAGES="0.01,0.5,2,2.9;0.0025,0.5,2,3.4", the stages of stop 24's
-// wake-mesh measurement.
-// Stop 26: that chain reached t = 3.25 s (of 3.4; 37-85 s a step at dt 0.0025, no cut step). Its
-// analysis (BIOFSI_FSI_FROM_SERIES): u_y(A) +0.7% (amplitude change +1.2%), u_x(A) amplitude
-// +2.3%, lift +-164.4 (+10.1%, within 15%; its lift per unit swing level over the windows ending
-// 3.2-3.25 s), drag mean +0.3%, but drag amplitude 28.9 (+27.8%; its 2f harmonic +-27.3, +20.5%).
-// Against the wake mesh at t = 3.15-3.25 s the lift per unit swing is 11% lower (the flag's part
-// 5% smaller, the parts 5 degrees further apart) while the drag's 2f oscillation is the same
-// (+-27, the flag's part +-25-26): the refined flag fixes the lift, not the drag amplitude.
-// CFD3 on the wake mesh at this test's dt 0.0025 sheds 14% weak (test_fluid_unsteady.cpp).
-// Stop 27: the chain reached t = 3.4 s; the test's analysis there: u_y(A) 1.39e-3 +- 3.462e-2
-// (+0.7%, amplitude change +1.2%) at 5.337 Hz (+0.7%), u_x(A) -2.86e-3 +- 2.62e-3 (mean +6.3%,
-// amplitude +3.7%) at 10.81 Hz, drag 460.2 +- 26.9 (mean +0.7%, amplitude +18.6%) at 10.84 Hz,
-// lift 3.1 +- 159.8 (+7.0%) at 5.403 Hz (+1.9%): fails on the drag amplitude only. One-period
-// harmonic fits over windows ending 3.0-3.4 s: drag's 2f harmonic 26.5-27.4 throughout (+17 to
-// +21%; the max-min amplitude 26.9-28.9 moves with the small 1f part), the flag's part 25-26, the
-// cylinder's 1-2; the lift's harmonic 155-161. So FSI3 now runs on turek_hron_flag with those
-// stages (fsi3()). BIOFSI_FSI_RESTART_MESH moves a checkpoint onto another mesh (mesh_transfer.hpp)
-// for a refinement study from the periodic state, and the series records the flag's momentum,
-// which splits the flag's forces into its inertia and the force through its root (reported after
-// the parts).
-// Stop 28: that t = 3.4 s state on the 1.5x refinement of turek_hron_flag (43086 nodes; start
-// stage theta 0.55 to 3.45 s against the transfer's undamped modes, then 0.5) to t ~ 3.59 s:
-// u_y(A) peaks +0.0360 / -0.0338, lift minimum -155.0, drag 426.6-490.3 and its 10.8 Hz harmonic
-// 26.3-29.4 (flag mesh at the same phase: +-0.0346, -156.7, 429-486, 25.0-26.3). The drag
-// amplitude's excess does not fall with the fluid mesh (README, "Known limits").
-// Stop 29: the excess is against the 2006 row (status above). The refined run, continued to t =
-// 3.69 s: u_y(A) 1.42e-3 +- 3.521e-2 at 5.48 Hz, u_x(A) +-2.71e-3, lift +-155.6, drag 426.6-491.0
-// (+-32.2, +16% against the finer row).
+// Why FSI3 runs on turek_hron_flag: refine 1's flag is too stiff (CSM3 on it: frequency +3.6%,
+// amplitude -7.9%; on refine 2's flag +0.6%, -2.4%), and with refine 2's flag the lift per unit
+// swing is 11-13% lower than on turek_hron_wake, where the same stages give lift +-173 (the finer
+// row: 153.91); the drag's 10.8 Hz oscillation is the same on both meshes (+-27, of which +-25 on
+// the flag). An FSI3 step costs ~2.1x the wake mesh's. The lift is an interference sum: the
+// flag's part leads u_y(A) by ~150 degrees (inertia-dominated, as a flag driven at 5.4 Hz, above
+// its in-vacuo first mode at ~2 Hz, must be), the cylinder's by 30-45, so a 15-degree phase error
+// of the shedding against the swing moves the total by ~30 N/m. The fluid alone on these meshes
+// sheds 7-14% weak (tests/fluid/test_fluid_unsteady.cpp).
 //
 // Environment, for studies (defaults in brackets): BIOFSI_FSI_MESH [FSI2 turek_hron_wake, FSI3
-// turek_hron_flag: a mesh of the
-// build, e.g. turek_hron_r1 or turek_hron_r2, or the path of a .msh file of
-// cases/meshes/turek_hron.geo made with other gmsh parameters; test_fluid_unsteady's CFD3 measures
-// a candidate's wake], BIOFSI_FSI_T_END [the last stage's end: the stages are cut there],
-// BIOFSI_FSI_STAGES
-// ["dt,theta,stiffening,t_end;...": replaces the case's stages], BIOFSI_FSI_DT, BIOFSI_FSI_THETA
-// (fluid and structure), BIOFSI_FSI_STIFFENING (the fluid mesh's): any of these three makes the run
-// one stage with their values (the others from the case's last stage), BIOFSI_FSI_STEADY_TAU [0],
+// turek_hron_flag: a mesh of the build, e.g. turek_hron_r1 or turek_hron_r2, or the path of a
+// .msh file of cases/meshes/turek_hron.geo made with other gmsh parameters; test_fluid_unsteady's
+// CFD3 measures a candidate's wake], BIOFSI_FSI_T_END [the last stage's end: the stages are cut
+// there], BIOFSI_FSI_STAGES ["dt,theta,stiffening,t_end;...": replaces the case's stages],
+// BIOFSI_FSI_DT, BIOFSI_FSI_THETA (fluid and structure), BIOFSI_FSI_STIFFENING (the fluid mesh's):
+// any of these three makes the run one stage with their values (the others from the case's last
+// stage), BIOFSI_FSI_STEADY_TAU [0],
 // BIOFSI_FSI_RAMP [0.5], BIOFSI_FSI_KICK [FSI2 4, FSI3 0: the peak of the transverse seeding pulse
 // on the flag, m/s^2], BIOFSI_FSI_SIMPLE [0: the fluid block preconditioned by SIMPLEC; 1: SIMPLE],
 // BIOFSI_FSI_NEWTON_TOL [FSI2 1e-6, FSI3 1e-4: each field's Newton tolerance relative to its
@@ -115,30 +55,25 @@
 // a mesh study from a periodic state. The interpolated velocity is not divergence-free on the
 // new mesh, which sets off Crank-Nicolson's undamped alternating mode in the drag: +-170 N/m at
 // the first step from turek_hron_flag to its 1.5x refinement, decaying over some 40 steps, which
-// the analysis must leave out. A first stage with theta 1 to damp it was no cure: its third step
-// took 329 Krylov iterations (the first two 58 and 84; not investigated)),
+// the analysis must leave out. A first stage with theta 0.55 damps it to +-2 within 20 steps of
+// 0.0025 s; one with theta 1 is no remedy: its third step takes 329 Krylov iterations (the first
+// two 58 and 84; the cause is not known)),
 // BIOFSI_FSI_VERBOSE [0] (1: every step's Newton history, residual norms per field).
 //
 // How the numbers are taken: as the benchmark does, over the last full period of each signal
 // (oscillation.hpp, tested in the default suite).
 //
-// Earlier measurements (stop 15, turek_hron_wake, single-stage runs): FSI3 with dt 0.01 from
-// rest sheds from t ~ 2.7 s (refine 1: 3.6 s) and overshoots (t = 2.7-2.9 s: lift +-286, +92%;
-// u_y +-0.040, +18%; two cut steps); continued with dt 0.005 to t = 3.745 s: u_y(A) -4.8%,
-// frequencies within 1.5%, lift +31%, drag amplitude +29%. FSI2 with theta 0.52 and dt 0.02
-// throughout: u_y(A) -18.0%, lift -25%, as on refine 1 (-16.5%, -27.7%): theta 0.52's damping,
-// not the mesh, was FSI2's deficit. On refine 1 CFD3 fails (lift -68%), so neither case can pass
-// there.
+// Neither case can pass on refine 1 (turek_hron_r1), where the fluid alone does not shed as the
+// benchmark does (CFD3's lift amplitude is a third of the reference's there).
 //
 // The start differs from the benchmark's on purpose: the inflow is ramped over BIOFSI_FSI_RAMP
 // seconds instead of 2, to reach the periodic state in fewer steps; the periodic state does not
 // depend on how it was reached. For the same reason FSI2's flag gets a transverse push when the
 // ramp ends (a body force rho_s a(t) on the flag, a(t) = kick sin^2(pi (t - t0) / 0.25 s) for a
-// quarter second, half the expected period): from rest its swing grows out of round-off by only
-// ~1.35x per 0.5 s (7e-3 at t = 4 s, 0.03 at 7 s against the periodic 0.081), so the unseeded run
-// spends most of its steps reaching the state the benchmark measures. Estimated effect of 4 m/s^2
-// (impulse over flag plus broadside added mass, at 2 Hz): a tip swing of ~0.015; measured 0.032,
-// then the swing settled to ~0.015 and grew to its periodic +-0.07 by t ~ 5.5 s.
+// quarter second, half the expected period): from rest its swing would have to grow out of
+// round-off, and the unseeded run would spend most of its steps reaching the state the benchmark
+// measures. Estimated effect of 4 m/s^2 (impulse over flag plus broadside added mass, at 2 Hz): a
+// tip swing of ~0.015, which then grows to the periodic +-0.078.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -167,7 +102,7 @@ namespace {
 // drag and lift act on cylinder + flag (the benchmark's); drag_flag and lift_flag are the flag's
 // part of them, to tell which body carries an error in the forces; px_flag and py_flag are the
 // flag's momentum per unit depth, whose rate splits the flag's part into its inertia and the
-// force through its root (series written before stop 27 lack them: NaN).
+// force through its root (NaN where a series file has no such columns).
 struct Series {
   std::vector<double> t, ux, uy, drag, lift, drag_flag, lift_flag, px_flag, py_flag;
   std::vector<std::vector<double>*> columns() {
@@ -220,42 +155,24 @@ UnsteadyCase fsi2() {
   c.parameters.u_mean = 1;
   // Start-up: the ramp, the push and the growth of the swing with theta a little above
   // Crank-Nicolson and 25 steps per lift period; from t = 4.4 s Crank-Nicolson with 50 steps per
-  // period, the periodic state that is measured. 0.5 with dt 0.02 needed cut steps at the
-  // extreme swings in 10 of 21 steps (stop 14, lift jumping by ~100 from step to step).
-  // History, with the fluid's former trapezoidal theta-scheme (first order, see the header):
-  // theta 0.52 throughout damped the swing (u_y(A) -16.5% and lift -27.7% on refine 1, -18.0%
-  // and -25% on turek_hron_wake); continued from t = 6.8 s with 0.5 and dt 0.01 to 9.43 s (stop
-  // 16) u_y(A) -8.7%, lift -14.9%, drag amplitude -6.8%, u_x amplitude -11.9%.
-  // Stop 19, with the midpoint form (second order): the swing grows faster (tip +-0.065 by
-  // t = 3.1 s, +-0.071 at 3.38 s; stop 16's chain reached that only after t = 5 s), and with the
-  // mesh stiffening 2 the fluid cell beside the tip's extreme swing inverted at t = 3.14 s
-  // (minimum scaled Jacobian 0.59, 0.30, 0.06 over the three steps before, then no line-search
-  // step without an inverted element). So stiffening 3 from rest (stop 18 made that possible:
-  // on this mesh the first step takes 3 Newton, 20 Krylov, the same digits as with 2), and
-  // Crank-Nicolson from 4.4 s, where the swing is already near its periodic size. Measured
-  // (stop 19, 2 threads, 13-38 s a step): from rest with stiffening 2 to t = 3.0 s, then this
-  // chain (restarted from the t = 3.0 s checkpoint) to t = 5.92 s, no cut step, the fluid mesh's
-  // smallest scaled Jacobian >= 0.36 through the extreme swings (u_y 0.071 at 3.38 s); over the
-  // last period: u_y(A) 1.29e-3 +- 7.78e-2
-  // (-3.4%) at 1.963 Hz (-1.9%; amplitude change over the period +0.64%), u_x(A) -1.36e-2 +-
-  // 1.20e-2 (mean -6.8%, amplitude -3.7%) at 3.92 Hz (+3.3%), drag 206.95 +- 70.55 (mean -0.9%,
-  // amplitude -4.3%) at 3.93 Hz (+3.5%), lift 2.6 +- 226.2 (-3.4%) at 1.980 Hz (-1.0%). Of the
-  // lift, +-250.0 on the flag and +-62.2 on the cylinder, partly out of phase; of the drag,
-  // 58.2 +- 67.6 on the flag, 148.2 +- 3.8 on the cylinder. (Means and amplitudes are the last
-  // period's, in the Crank-Nicolson stage; the frequencies count up to 4 periods after t = 2/3
-  // of 5.92 s, partly in the theta 0.52 stage. With the default end 6.6 s that window starts at 4.4
-  // s.) Stops 20-21, these stages from rest (one chain; restarted once, from its own t = 6.0 s
-  // checkpoint): 440 steps, no cut step, the fluid mesh's smallest scaled Jacobian 0.308 (t =
-  // 5.95 s; >= 0.44 through the swings at t = 3.0-3.5 s where stiffening 2 inverted), 2.9 Newton
-  // and 35 Krylov a step before 4.4 s, 3.2 and 44 after (22-24 s a step on 2 threads), 4.5 and 98
-  // over t = 6.0-6.6 s, where the Newton count alternates 4/6 from step to step (4/5 at 5.9 s; the
-  // lift carries a step-to-step zigzag of ~2, 1% of its amplitude). At t = 6.6 s: u_y(A) 1.26e-3
-  // +- 7.78e-2 (-3.4%, amplitude change over the last period 0.00%) at 1.964 Hz (-1.8%), u_x(A)
-  // -1.38e-2 +- 1.20e-2 (mean -5.3%, amplitude -3.5%) at 3.93 Hz (+3.4%), drag 206.4 +- 68.9
-  // (mean -1.2%, amplitude -6.6%) at 3.93 Hz (+3.5%), lift 0.64 +- 219.7 (-6.2%) at 1.969 Hz
-  // (-1.6%): passes. The lift's half-period peaks still vary between 210 and 228 (t = 4.6-6.6 s),
-  // which is the spread between the stop-19 (-3.4%) and this (-6.2%) lift. Flag/cylinder: lift
-  // +-244.0 / +-61.4, drag 57.6 +- 66.2 / 148.4 +- 3.7.
+  // period, the periodic state that is measured. Why not 0.5 throughout: with dt 0.02 it cuts
+  // steps at the extreme swings (in 10 of 21 steps, the lift jumping by ~100 from step to step).
+  // Why not 0.52 throughout: it damps the periodic swing (u_y(A) by ~18%, the lift by ~25%). The
+  // fluid mesh's stiffening is 3 from rest: with 2 the fluid cell beside the tip inverts at the
+  // extreme swing (t ~ 3.14 s: minimum scaled Jacobian 0.59, 0.30, 0.06 over the three steps
+  // before, then no line-search step without an inverted element); with 3 the first step from
+  // rest takes 3 Newton and 20 Krylov iterations, as with 2.
+  // Measured (these stages from rest, 440 steps, no cut step, 22-24 s a step on 2 threads): the
+  // fluid mesh's smallest scaled Jacobian 0.308 (t = 5.95 s; >= 0.44 through the extreme swings at
+  // t = 3.0-3.5 s); 2.9 Newton and 35 Krylov a step before 4.4 s, 3.2 and 44 after, 4.5 and 98
+  // over t = 6.0-6.6 s, where the Newton count alternates 4/6 from step to step (the lift carries
+  // a step-to-step zigzag of ~2, 1% of its amplitude). At t = 6.6 s: u_y(A) 1.26e-3 +- 7.78e-2
+  // (-3.4%, amplitude change over the last period 0.00%) at 1.964 Hz (-1.8%), u_x(A) -1.38e-2 +-
+  // 1.20e-2 (mean -5.3%, amplitude -3.5%) at 3.93 Hz (+3.4%), drag 206.4 +- 68.9 (mean -1.2%,
+  // amplitude -6.6%) at 3.93 Hz (+3.5%), lift 0.64 +- 219.7 (-6.2%) at 1.969 Hz (-1.6%). The
+  // lift's half-period peaks vary between 210 and 228 over t = 4.6-6.6 s, so one period's lift
+  // amplitude moves by a few per cent with the end of the run. Flag/cylinder: lift +-244.0 /
+  // +-61.4, partly out of phase; drag 57.6 +- 66.2 / 148.4 +- 3.7.
   c.stages = {{0.02, 0.52, 3, 4.4}, {0.01, 0.5, 3, 6.6}};
   c.kick = 4;
   // Checked against Turek & Hron (2006)'s FSI2 summary row (as nutils' examples/turek.py also
@@ -273,31 +190,28 @@ UnsteadyCase fsi3() {
   c.parameters.solid_density = 1000;
   c.parameters.solid_shear_modulus = 2e6;
   c.parameters.u_mean = 2;
-  // On turek_hron_flag (refine 2's flag in the wake mesh): on the wake mesh the lift is +16%,
-  // here +7% (stops 24-27, test header). Start-up with 19 steps per lift period, measured with
-  // 76: with the midpoint form the swing grows from t ~ 1.7 s, u_y 0.039 at 2.54 s in the dt 0.01
-  // stage, and the 0.5 s at dt 0.0025 reach the periodic state (from t ~ 3.1 s) and two periods
-  // in it. This is the run that measured the header's stop-27 numbers (from rest, 490 steps).
+  // On turek_hron_flag (refine 2's flag in the wake mesh; why: the header). Start-up with 19
+  // steps per lift period, measured with 76: the swing grows from t ~ 1.7 s (u_y 0.039 at 2.54 s
+  // in the dt 0.01 stage), and the 0.5 s at dt 0.0025 reach the periodic state (from t ~ 3.1 s)
+  // and two periods in it. These stages from rest (490 steps) measured the header's numbers.
   c.mesh = "turek_hron_flag";
   c.stages = {{0.01, 0.5, 2, 2.9}, {0.0025, 0.5, 2, 3.4}};
-  // 1e-4: against 1e-6 from rest to t = 1.37 s the largest differences were 4e-6 of u_y(A)'s
-  // and 1.3e-4 of the lift's largest value (stop 23), and in the periodic state the lift and drag
-  // amplitudes of the two differ by less than either's spread from period to period (stop 24);
-  // it saves a quarter of the time.
+  // 1e-4: against 1e-6 from rest to t = 1.37 s the largest differences are 4e-6 of u_y(A)'s and
+  // 1.3e-4 of the lift's largest value, and in the periodic state the lift and drag amplitudes of
+  // the two differ by less than either's spread from period to period; it saves a quarter of the
+  // time.
   c.newton_tol = 1e-4;
   // Checked against the benchmark authors' finest FSI3 result: Featflow, level 4+0, dt = 0.00025 s,
   // the row of the reference time history published with the benchmark (Featflow FSI benchmark
   // reference page, TU Dortmund; Turek, Hron, Madlik, Razzaq, Wobker & Acker 2010, Fluid
-  // Structure Interaction II, LNCSE 73). The 2006 proposal's summary row, which this test checked
-  // until stop 29 (there with lift 149.36 and drag mean 457.0, where the row as quoted elsewhere,
-  // e.g. nutils' examples/turek.py and solids4foam, reads 149.78 and 457.3), differs
-  // from it most in the drag amplitude, 22.66 against 27.74 (-18%): the flag mesh's run failed
-  // the 2006 row by +18.6% (stops 22-28) and meets this one (-3.1%; on a finer mesh the drag
-  // amplitude rises, see the header's status). Checks on the finer row: the
-  // published history itself (t = 5.0455-5.228 s, one swing, read from solids4foam's copy,
-  // tutorials/fluidSolidInteraction/HronTurekFsi3/verification/reference) gives drag 460.1 +-
-  // 28.3, u_y 1.57e-3 +- 3.481e-2, u_x -2.87e-3 +- 2.72e-3; solids4foam's own FSI3 study
-  // (finite volumes, partitioned, 2x mesh) measured drag 459.3 +- 28.06 against it.
+  // Structure Interaction II, LNCSE 73). The 2006 proposal's summary row (as quoted by nutils'
+  // examples/turek.py and solids4foam), reported beside it, differs from it most in the drag
+  // amplitude, 22.66 against 27.74 (-18%): this run's drag amplitude is +18.6% against the 2006
+  // row and -3.1% against this one (on a finer mesh it rises; see the header). Checks on the
+  // finer row: the published history itself (t = 5.0455-5.228 s, one swing, read from
+  // solids4foam's copy, tutorials/fluidSolidInteraction/HronTurekFsi3/verification/reference)
+  // gives drag 460.1 +- 28.3, u_y 1.57e-3 +- 3.481e-2, u_x -2.87e-3 +- 2.72e-3; solids4foam's own
+  // FSI3 study (finite volumes, partitioned, 2x mesh) measured drag 459.3 +- 28.06 against it.
   c.reference = {{-2.8800e-3, 2.7200e-3, 10.93},
                  {1.4700e-3, 3.4990e-2, 5.46},
                  {4.6050e2, 2.7740e1, 10.93},
@@ -760,7 +674,7 @@ Series read_series(const std::string& path) {
     std::stringstream fields(line);
     std::string field;
     while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
-    if (row.size() >= 5) s.add(row);  // series written before stop 19 lack the flag's part
+    if (row.size() >= 5) s.add(row);  // the flag's columns are optional
   }
   if (s.t.empty())
     ADD_FAILURE() << "BIOFSI_FSI_FROM_SERIES = '" << path << "': no rows t,ux,uy,drag,lift";

@@ -5,25 +5,25 @@
 // sin(2 pi t / 0.8), nu = 0.01 (Re ~ 100, element Peclet ~ 3: SUPG, PSPG and grad-div active);
 // the moving mesh's interior swings by up to 8% of the box, its walls stay put.
 //
-// What it measures (stop 17; the differences 10 -> 20, 20 -> 40, 40 -> 80 steps, the order of the
-// last two), with the steady tau_M (FluidSettings::transient_tau = false):
+// What it measures (the differences 10 -> 20, 20 -> 40, 40 -> 80 steps, the order of the last
+// two), with the steady tau_M (FluidSettings::transient_tau = false):
 //   theta 1,   fixed  1.89e-2 9.60e-3 4.84e-3, order 0.99;  moving 2.48e-2 1.21e-2 5.95e-3, 1.02
 //   theta 0.5, fixed  1.82e-3 4.07e-4 8.84e-5, order 2.20;  moving 2.93e-3 6.51e-4 1.36e-4, 2.26
-// Crank-Nicolson used to be first order here (stop 16: fixed 1.66e-3 5.89e-4 2.70e-4, order
-// 1.12; moving 3.30e-3 2.11e-3 1.16e-3, 0.86), with the trapezoidal form: convection and
-// viscosity averaged over t_n and t_{n+1}, but continuity, SUPG, PSPG and tau at t_{n+1}, on the
-// configuration at t_{n+1}. The stabilisation terms contain the time derivative, so the
-// continuity equation is a differential one and its time level matters; every term at t_{n+theta}
-// (the implicit midpoint rule, kernels/fluid/pointwise.hpp) gave the fixed mesh second order, and
-// the moving mesh 0.64 until the configuration moved to t_{n+theta} as well (FluidField::
-// update_coordinates). With the transient tau_M, whose (2/dt)^2 term makes the stabilised
+// Second order for theta 0.5 needs every term at t_{n+theta} (the implicit midpoint rule,
+// kernels/fluid/pointwise.hpp) on the configuration at t_{n+theta} (FluidField::
+// update_coordinates): the stabilisation terms contain the time derivative, so the continuity
+// equation is a differential one and its time level matters. The trapezoidal form (convection
+// and viscosity averaged over t_n and t_{n+1}, but continuity, SUPG, PSPG and tau at t_{n+1}, on
+// the configuration at t_{n+1}) is first order here (fixed 1.66e-3 5.89e-4 2.70e-4, order 1.12;
+// moving 3.30e-3 2.11e-3 1.16e-3, 0.86), and the midpoint rule on the configuration at t_{n+1}
+// gives the moving mesh 0.64. With the transient tau_M, whose (2/dt)^2 term makes the stabilised
 // operator itself depend on dt, the differences measure that operator's change as much as the
-// time error (README, "Known limits"), so this test runs the steady one.
+// time error (docs/known-limits.md), so this test runs the steady one.
 //
 // Tolerances, and why: backward Euler's order within 0.15 of 1 (the order tolerance);
 // Crank-Nicolson's at least 1.8 (measured 2.20 and 2.26: second order with the usual
 // pre-asymptotic margin) and its finest difference at most 0.05 of backward Euler's (measured
-// 0.018 and 0.023; the trapezoidal form's were 0.056 and 0.19). Newton to 1e-12 relative:
+// 0.018 and 0.023; the trapezoidal form's are 0.056 and 0.19). Newton to 1e-12 relative:
 // algebraic errors ~1e-12 are far below the 1e-4 differences measured.
 #include <gtest/gtest.h>
 

@@ -8,55 +8,45 @@
 //        0.99-1.01 (taken as amplitude 1.0), Strouhal number 0.295-0.305 (f = St U_mean / D =
 //        3.0 Hz), c_D max 3.22-3.24.
 //
-// Why they are here: FSI2 and FSI3 (tests/coupling/test_fsi_unsteady.cpp) measure frequencies ~5%
-// low and FSI3's force amplitudes 20-57% high on the refine-1 mesh, while the flag alone (CSM3,
-// tests/structure/test_csm3.cpp) is 3.6% fast there. These measure the fluid's share.
+// Why they are here: FSI2 and FSI3 (tests/coupling/test_fsi_unsteady.cpp) are driven by this
+// shedding; these measure the fluid's share of their errors on the same meshes, without the
+// flag's motion (CSM3, tests/structure/test_csm3.cpp, measures the flag's share).
 //
 // The start: the inflow is ramped over BIOFSI_UNSTEADY_RAMP [0.5] s (the benchmark's 2 s is not
 // needed for a periodic state), and a transverse pulse of body force (BIOFSI_UNSTEADY_KICK [CFD3
 // 30, DFG 5] m/s^2 peak, sin^2 over 0.1 s after the ramp, on the fluid behind the body) breaks the
-// near-symmetry from which shedding would otherwise grow out of round-off.
+// near-symmetry from which shedding would otherwise grow out of round-off (on refine 1 a 2 m/s^2
+// pulse left CFD3's oscillation at +-4 at t = 4 s).
 //
 // Tolerances, and why: the DFG participants' converged results spread by +-1.7% in St and +-1% in
 // c_L max; a Q1 mesh of a few thousand nodes is allowed about twice that in frequency (3%) and ten
 // times in lift amplitude (10%); and the state must be periodic (lift amplitude change < 3% over
 // the last period), not still growing.
 //
-// Measured (one thread, dt 0.01):
-//   DFG 2D-2 refine 1 (6 min): c_L +-1.024 (+2.4%), St 0.293 (-2.45%), c_D max 3.222 (-0.26%),
+// Measured (one thread, dt 0.01, theta 0.5, the midpoint form of kernels/fluid/pointwise.hpp):
+//   DFG 2D-2 refine 1 (6 min): c_L +-1.028 (+2.8%), St -2.45%, c_D max 3.2224 (-0.24%),
 //     amplitude change 0.01%: passes.
-//   CFD3 refine 1 (BIOFSI_UNSTEADY_MESH=turek_hron_r1 BIOFSI_UNSTEADY_T_END=10, 10 min): lift -44
-//   +- 141 (-68%) at 4.10 Hz (-6.8%), still growing 2.1% a
-//     period at t = 10 s; drag mean 443.1 (+0.8%): fails. With a 2 m/s^2 pulse instead of 30 the
-//     oscillation was +-4 at t = 4 s; grad-div off changed the lift by < 10% to t = 1.2 s.
-//   CFD3 refine 2 (BIOFSI_UNSTEADY_MESH=turek_hron_r2, ~6 s a step; stopped at t = 4.5 s): periodic
-//     (amplitude change -0.35%), lift -19 +- 386 (-11.8%) at 4.35 Hz (-1.0%), drag mean 438.2
-//     (-0.3%); over the next period (to 4.6 s) lift +-381 (-12.9%): only the amplitude fails.
-//   CFD3 on turek_hron_wake, refine 1 with a finer wake (gmsh -setnumber c_side 12 -setnumber
-//     g_side 1.1 -setnumber c_wake 100 -setnumber c_wall 8; 2 threads, ~25 min): over the last
-//     period before t = 4.95 s lift +-400 (-8.6%) at 4.35 Hz (-1.0%), amplitude change -1.5%;
-//     before t = 4.99 s lift +-395 (-9.7%), 4.35 Hz, amplitude change -1.2%, drag mean +1.6%:
-//     passes, with little room in the lift amplitude (still falling ~1% a period).
-//   So refine 1's wake is too coarse for CFD3's shedding, and with it for FSI3's flow: CFD3 runs
-//   on the wake mesh.
-//   The numbers above were measured with the fluid's former trapezoidal theta = 0.5; with the
-//   midpoint form (stop 17, kernels/fluid/pointwise.hpp; one thread, another job alongside):
-//   DFG 2D-2 refine 1 c_L +-1.028 (+2.8%), St -2.45%, c_D max 3.2224 (-0.24%), amplitude change
-//   0.01%: passes; CFD3 on the wake mesh to t = 5 s (42 min) lift -22.4 +- 395.7 (-9.6%) at
-//   4.355 Hz (-0.9%), amplitude change -1.3%, drag mean +1.6%: passes, as before.
-//   turek_hron_flag (stop 23; the wake mesh with refine 2's flag): lift -21.4 +- 405.4 (-7.4%)
-//   at 4.349 Hz (-1.1%), drag mean +1.6%: passes. Stop 25, the same with the body's region
-//   doubled (its gmsh arguments plus -setnumber c_box 20 -setnumber c_ring 16: the cylinder's
-//   O-grid and the patches beside it; 10868 nodes per layer; one thread, 58 min): lift -19.8 +-
-//   385.7 (-11.9%) at 4.332 Hz (-1.4%), drag mean 439.1 (-0.1%), amplitude change -1.2%: the
-//   lift amplitude fails. So on meshes of 7-13 thousand nodes per layer the shedding is 7-12%
-//   weak, and refining one region does not move it monotonically toward the reference.
-//   Stop 26, the step: CFD3 on turek_hron_wake with BIOFSI_UNSTEADY_DT=0.0025 (FSI3's measuring
-//   step; one thread, 90 min beside an FSI3 run) to t = 5 s: lift -23.8 +- 376.7 (-14.0%) at
-//   4.373 Hz (-0.5%), amplitude change -1.2%, drag mean 439.4 (-0.01%); fails on the lift. A
-//   quarter of the step took 4.4 points off the lift amplitude (dt 0.01: -9.6%). The midpoint
-//   rule is second order, so dt 0.0025 leaves ~1/16 of dt 0.01's time error: the shedding on this
-//   mesh is ~14% weak in space, and dt 0.01's pass was partly its time error.
+//   CFD3 on turek_hron_wake (refine 1's body with a finer wake: gmsh -setnumber c_side 12
+//     -setnumber g_side 1.1 -setnumber c_wake 100 -setnumber c_wall 8; to t = 5 s, 42 min): lift
+//     -22.4 +- 395.7 (-9.6%) at 4.355 Hz (-0.9%), amplitude change -1.3%, drag mean +1.6%:
+//     passes, with little room in the lift amplitude.
+//   CFD3 on turek_hron_flag (the wake mesh with refine 2's flag; 45 min): lift -21.4 +- 405.4
+//     (-7.4%) at 4.349 Hz (-1.1%), drag mean +1.6%: passes.
+//   CFD3 on turek_hron_flag with the body's region doubled (its gmsh arguments plus -setnumber
+//     c_box 20 -setnumber c_ring 16: the cylinder's O-grid and the patches beside it; 10868 nodes
+//     per layer; 58 min): lift -19.8 +- 385.7 (-11.9%) at 4.332 Hz (-1.4%), drag mean 439.1
+//     (-0.1%), amplitude change -1.2%: the lift amplitude fails.
+//   CFD3 on turek_hron_wake with BIOFSI_UNSTEADY_DT=0.0025 (FSI3's measuring step; 90 min) to
+//     t = 5 s: lift -23.8 +- 376.7 (-14.0%) at 4.373 Hz (-0.5%), amplitude change -1.2%, drag
+//     mean 439.4 (-0.01%): fails on the lift. The midpoint rule is second order, so dt 0.0025
+//     leaves ~1/16 of dt 0.01's time error: on this mesh the shedding is ~14% weak in space, and
+//     part of dt 0.01's pass is its time error.
+//   CFD3 on refine 1 (BIOFSI_UNSTEADY_MESH=turek_hron_r1 BIOFSI_UNSTEADY_T_END=10, 10 min): lift
+//     -44 +- 141 (-68%) at 4.10 Hz (-6.8%), still growing 2.1% a period at t = 10 s: refine 1's
+//     wake is too coarse for CFD3's shedding, and with it for FSI3's flow, so CFD3 runs on the
+//     wake mesh.
+//   So on meshes of 7-11 thousand nodes per layer the shedding is 7-14% weak, and refining one
+//   region does not move it monotonically toward the reference.
 // Environment: BIOFSI_UNSTEADY_MESH [CFD3 turek_hron_wake, DFG dfg_2d1_r1: a mesh of the build,
 // e.g. turek_hron_r2, or the path of a .msh of the same geometry made with other gmsh parameters],
 // BIOFSI_UNSTEADY_DT [0.01], BIOFSI_UNSTEADY_T_END [CFD3 5, DFG 6], BIOFSI_UNSTEADY_THETA [0.5],

@@ -13,7 +13,7 @@
 // below at O(h^2) (bending stiffness overestimated by shear locking). Measured u_y(A) on the
 // current meshes: -7.86% (refine 1), -2.13% (refine 2; u_x -4.26%), -0.56% (refine 4, 19686
 // dofs; u_x -1.12%), observed orders 1.89 and 1.94; Richardson extrapolation of refine 2 and 4:
-// -0.03%. (The earlier unstructured flag mesh gave -13.7%, -4.1%, -1.1% at refine 1, 2, 4.) So
+// -0.03%. (An unstructured flag mesh gives -13.7%, -4.1%, -1.1% at refine 1, 2, 4.) So
 // the "within 1% on a moderate mesh" is met by raw Q1 at refine 4 (the default suite
 // asserts it, ~40 s), with the extrapolation held to 0.2%; the long study adds refine 1 and asks
 // for an observed order above 1.5.

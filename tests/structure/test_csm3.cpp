@@ -3,9 +3,9 @@
 // amplitude [frequency] of the tip point A: u_x = -14.305e-3 +- 14.305e-3 m [1.0995 Hz],
 // u_y = -63.607e-3 +- 65.160e-3 m [1.0995 Hz].
 //
-// Why it is here: FSI2 and FSI3 (tests/coupling/test_fsi_unsteady.cpp) measure frequencies ~5% low
-// on the refine-1 mesh; CSM3 measures the structure's share of that error (its mesh and its time
-// integrator) without the fluid.
+// Why it is here: FSI2 and FSI3 (tests/coupling/test_fsi_unsteady.cpp) depend on the flag's
+// stiffness and inertia; CSM3 measures the structure's share of their error (its mesh and its
+// time integrator) without the fluid.
 //
 // Tolerances, and why: Q1 overestimates the bending stiffness at O(h^2) (CSM1: u_y -7.9% at refine
 // 1, -2.1% at refine 2), which raises the frequency by about half that and lowers the amplitude by
@@ -17,8 +17,8 @@
 //   refine 1: u_y -6.00e-2 +- 6.00e-2 [1.139 Hz] (mean -5.6%, amplitude -7.9%, frequency +3.6%)
 //   refine 2: u_y -6.33e-2 +- 6.36e-2 [1.106 Hz] (mean -0.4%, amplitude -2.4%, frequency +0.6%),
 //             u_x amplitude -2.2%, frequency +0.6%
-// So the structure alone errs on the stiff, fast side at refine 1: it does not explain FSI2/FSI3's
-// low frequencies.
+// So the structure alone errs on the stiff, fast side at refine 1; FSI3's mesh (turek_hron_flag)
+// therefore carries refine 2's flag.
 #include <gtest/gtest.h>
 
 #include <cmath>
