@@ -185,6 +185,7 @@ class Driver {
     for (int n = 0; n < mesh_.n_nodes(); ++n)
       for (int d = 0; d < 3; ++d) c[n][d] = v[d](mesh_.x[n], 0.0);
     field_.set_convective_velocity(c);
+    if (!scene.scalar.enabled) open_series();
   }
 
   // A flow-only scene (scalar disabled): the steady flow, or time.steps steps of it.
@@ -196,21 +197,26 @@ class Driver {
         solve_steady_flow("steady flow");
         step = 1;
         write(step, fluid_->time(), {});
+        record_series(step, fluid_->time());
       } else {
         Progress progress(scene_.time.steps);
         std::vector<double> previous = fluid_->solution_host();
-        for (step = 1; step <= scene_.time.steps; ++step) {
-          advance_flow("flow step " + std::to_string(step));
-          std::vector<double> now = fluid_->solution_host();
-          const double change = relative_change(now, previous);
-          previous = std::move(now);
-          progress.update(step, fluid_->time(), change);
-          if (step % scene_.output.every == 0 || step == scene_.time.steps)
-            write(step, fluid_->time(), {});
-          if (scene_.time.steady_tolerance > 0 && change < scene_.time.steady_tolerance) break;
+        bool steady = false;
+        for (const TimeSpec::Stage& stage : scene_.time.stages) {
+          for (int i = 1; i <= stage.steps && !steady; ++i) {
+            ++step;
+            advance_flow("flow step " + std::to_string(step), stage.dt);
+            std::vector<double> now = fluid_->solution_host();
+            const double change = relative_change(now, previous);
+            previous = std::move(now);
+            progress.update(step, fluid_->time(), change);
+            record_series(step, fluid_->time());
+            steady = scene_.time.steady_tolerance > 0 && change < scene_.time.steady_tolerance;
+            if (step % scene_.output.every == 0 || step == scene_.time.steps)
+              write(step, fluid_->time(), {});
+          }
         }
         progress.done();
-        step = std::min(step, scene_.time.steps);
       }
     } catch (const SolveError& e) {
       return failed(e, step, fluid_->time());
@@ -332,11 +338,11 @@ class Driver {
     after_flow_solve(label);
   }
 
-  void advance_flow(const std::string& label) {
+  void advance_flow(const std::string& label, double dt) {
     if (fsi_)
-      fsi_->step(scene_.time.dt, label);
+      fsi_->step(dt, label);
     else
-      fluid_->step(scene_.time.dt, label);
+      fluid_->step(dt, label);
     after_flow_solve(label);
   }
 
@@ -429,7 +435,8 @@ class Driver {
     for (int i = 1; i <= scene_.time.steps; ++i) {
       std::ostringstream label;
       label << prefix << "inner step " << i << " (t = " << field_.time() + scene_.time.dt << ")";
-      if (fluid_ && scene_.fluid.mode == FlowMode::Transient) advance_flow(label.str());
+      if (fluid_ && scene_.fluid.mode == FlowMode::Transient)
+        advance_flow(label.str(), scene_.time.dt);
       field_.step(scene_.time.dt, label.str());
       std::vector<std::vector<double>> now = inner_states();
       r.change = 0;
@@ -481,6 +488,81 @@ class Driver {
       totals_.min_quality = std::min(totals_.min_quality, b.min);
       totals_.max_quality = std::max(totals_.max_quality, b.max);
     }
+  }
+
+  // series.csv of a flow run: a row per step with the fluid's force on each force boundary and
+  // each probe's value (the mean over its nodes), flushed row by row so a run's history survives
+  // it being stopped.
+  void open_series() {
+    const OutputSpec& o = scene_.output;
+    if (o.probes.empty() && o.force_boundaries.empty()) return;
+    for (size_t i = 0; i < o.probes.size(); ++i) probes_.push_back(probe_nodes(o.probes[i], i));
+    series_.open(out_ / "series.csv");
+    series_ << "step,time";
+    for (const auto& set : o.force_boundaries)
+      for (const char* c : {"x", "y", "z"}) series_ << ",force_" << set << "_" << c;
+    for (const auto& p : o.probes)
+      if (p.quantity == ProbeSpec::Quantity::Pressure)
+        series_ << "," << p.name << "_pressure";
+      else
+        for (const char* c : {"x", "y", "z"})
+          series_ << "," << p.name
+                  << (p.quantity == ProbeSpec::Quantity::Velocity ? "_velocity_" : "_displacement_")
+                  << c;
+    series_ << "\n" << std::setprecision(12);
+    record_series(0, fluid_->time());
+  }
+
+  std::vector<int> probe_nodes(const ProbeSpec& p, size_t index) const {
+    std::vector<int> nodes;
+    for (int n = 0; n < mesh_.n_nodes(); ++n) {
+      bool at = true;
+      for (size_t d = 0; d < p.point.size(); ++d)
+        at = at && std::abs(mesh_.x[n][d] - p.point[d]) <= 1e-9 * (1 + std::abs(p.point[d]));
+      if (at) nodes.push_back(n);
+    }
+    if (nodes.empty()) {
+      std::ostringstream msg;
+      msg << scene_.file << ":" << p.line << ": output.probes[" << index << "].point: no mesh node "
+          << "at (";
+      for (size_t d = 0; d < p.point.size(); ++d) msg << (d ? ", " : "") << p.point[d];
+      msg << "); expected a point that is a node of the mesh (or, with 2 coordinates, nodes "
+             "through its thickness)";
+      throw SceneError(msg.str());
+    }
+    return nodes;
+  }
+
+  void record_series(int step, double time) {
+    if (!series_.is_open()) return;
+    series_ << step << "," << time;
+    for (const auto& set : scene_.output.force_boundaries) {
+      const Point f = fluid_->force(set);
+      series_ << "," << f[0] << "," << f[1] << "," << f[2];
+    }
+    std::vector<Point> displacement, velocity;
+    std::vector<double> pressure;
+    for (size_t i = 0; i < probes_.size(); ++i) {
+      const auto quantity = scene_.output.probes[i].quantity;
+      const auto& nodes = probes_[i];
+      Point mean{0, 0, 0};
+      for (int n : nodes) {
+        if (quantity == ProbeSpec::Quantity::Pressure) {
+          if (pressure.empty()) pressure = fluid_->pressure();
+          mean[0] += pressure[n] / nodes.size();
+          continue;
+        }
+        std::vector<Point>& v = quantity == ProbeSpec::Quantity::Velocity ? velocity : displacement;
+        if (v.empty())
+          v = quantity == ProbeSpec::Quantity::Velocity ? fluid_->velocity() : fsi_->displacement();
+        for (int d = 0; d < 3; ++d) mean[d] += v[n][d] / nodes.size();
+      }
+      if (quantity == ProbeSpec::Quantity::Pressure)
+        series_ << "," << mean[0];
+      else
+        series_ << "," << mean[0] << "," << mean[1] << "," << mean[2];
+    }
+    series_ << "\n" << std::flush;
   }
 
   void write(int step, double time, std::vector<OutputField> extra) {
@@ -713,6 +795,8 @@ class Driver {
   bool tty_ = isatty(STDOUT_FILENO);
   int first_growth_step_ = 0;
   GrowthTotals totals_;
+  std::vector<std::vector<int>> probes_;  // the nodes of each output probe
+  std::ofstream series_;
 };
 
 }  // namespace

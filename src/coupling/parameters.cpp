@@ -18,7 +18,7 @@ FsiSettings read_fsi_section(const Checker& c, const Node& node, const MeshNames
   }
   MapView m(c, node, "fsi",
             {"interface", "shape_derivatives", "fixed_walls", "sliding_walls", "rel_tol",
-             "max_iterations"});
+             "max_iterations", "inner_tolerance"});
   if (auto n = m.get("interface"))
     f.interface = boundary_name(c, *n, m.key("interface"), names.face_sets);
   else if (!growth_interface.empty())
@@ -43,6 +43,11 @@ FsiSettings read_fsi_section(const Checker& c, const Node& node, const MeshNames
   f.rel_tol = get_number(
       m, "rel_tol", [](double v) { return v > 0 && v < 1; }, "a number in (0, 1)", f.rel_tol);
   f.max_iterations = get_int(m, "max_iterations", 1, f.max_iterations);
+  f.inner_tolerance = get_number(
+      m, "inner_tolerance", [](double v) { return v >= 0 && v < 1; },
+      "a number in [0, 1) (relative tolerance of each preconditioner block's inner solve; 0: one "
+      "application of the field's preconditioner)",
+      f.inner_tolerance);
   // The fluid's velocity on Γ is the structure's: the fluid must hold it (no_slip or velocity).
   bool held = false;
   for (const auto& bc : fluid.boundary_conditions)

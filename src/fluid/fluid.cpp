@@ -541,31 +541,11 @@ NewtonResult FluidField::steady_newton(const std::string& label) {
 }
 
 NewtonResult FluidField::solve_steady(const std::string& label) {
-  Vector start("biofsi::fluid_steady_start", state_.extent(0));
-  copy(state_, start);
-  try {
-    return steady_newton(label);
-  } catch (const SolveError& first) {
-    if (settings_.pseudo_transient_steps == 0) throw;
-    const double t = time_;
-    return pseudo_transient_continuation(
-        first, "fluid", label, state_, settings_.pseudo_transient_steps, settings_.pseudo_dt0,
-        [&](double dt, const std::string& l) {
-          try {
-            step_once(dt, 1.0, l);
-          } catch (const SolveError&) {
-            time_ = t;
-            throw;
-          }
-          time_ = t;
-        },
-        [&](const std::string& l) { return steady_newton(l); },
-        [&] {
-          copy(start, state_);
-          save_old_state();
-        },
-        stats_.pseudo_steps);
-  }
+  return solve_steady_with_continuation(
+      "fluid", label, state_, time_, settings_.pseudo_transient_steps, settings_.pseudo_dt0,
+      [&](const std::string& l) { return steady_newton(l); },
+      [&](double dt, const std::string& l) { step_once(dt, 1.0, l); }, [&] { save_old_state(); },
+      stats_.pseudo_steps);
 }
 
 std::vector<double> FluidField::solution_host() const { return to_host_vector(state_); }

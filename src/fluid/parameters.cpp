@@ -79,11 +79,8 @@ FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
                                {"simplec", FluidPreconditioner::SimpleC},
                                {"monolithic_amg", FluidPreconditioner::MonolithicAmg}},
                               std::optional<FluidPreconditioner>(s.preconditioner));
-  for_each_boundary_condition(
-      m, "fluid", names.face_sets,
-      [&](const MapView& typed, int line, const std::string& boundary) {
-        section.boundary_conditions.push_back(read_boundary_condition(typed, line, boundary));
-      });
+  section.boundary_conditions =
+      read_boundary_conditions(m, "fluid", names.face_sets, read_boundary_condition);
   return section;
 }
 

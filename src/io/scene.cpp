@@ -263,15 +263,46 @@ void read_fields(const Checker& c, const Node& node, const MeshNames& names, Sce
       scene.fluid.enabled);
 }
 
+std::vector<TimeSpec::Stage> read_stages(const Checker& c, const Node& node, const MapView& time,
+                                         const Scene& scene) {
+  const std::string key = time.key("stages");
+  const std::string expected = "a list of stages {dt, steps}";
+  for (const char* other : {"dt", "steps"})
+    if (auto n = time.get(other); n && !n->IsNull())
+      c.fail(*n, time.key(other), "dt and steps beside stages", render(*n),
+             "either dt and steps, or stages");
+  if (!node.IsSequence() || node.size() == 0) c.wrong_type(node, key, expected);
+  if (node.size() > 1 && (scene.scalar.enabled || scene.growth.enabled))
+    c.fail(node, key, "stages in a scene with the scalar field", render(node),
+           "one dt for the inner loop (time.dt and time.steps): stages are for flow runs");
+  std::vector<TimeSpec::Stage> stages;
+  for (size_t i = 0; i < node.size(); ++i) {
+    MapView s(c, node[i], index_key(key, i), {"dt", "steps"}, "a map {dt, steps}");
+    stages.push_back(
+        {get_number(
+             s, "dt", [](double v) { return v > 0; }, "a finite number > 0", std::nullopt),
+         get_int(s, "steps", 1, std::nullopt)});
+  }
+  return stages;
+}
+
 void read_time(const Checker& c, const Node& node, Scene& scene) {
-  MapView m(c, node, "time", {"mode", "dt", "steps", "theta", "steady_tolerance"});
+  MapView m(c, node, "time", {"mode", "dt", "steps", "stages", "theta", "steady_tolerance"});
   TimeSpec& t = scene.time;
   const bool transient = get_choice(m, "mode", {"transient", "steady"}, "transient") == "transient";
   t.mode = transient ? TimeMode::Transient : TimeMode::Steady;
-  t.dt = get_number(
-      m, "dt", [](double v) { return v > 0; }, "a finite number > 0 [ms]",
-      transient ? std::nullopt : std::optional<double>(t.dt));
-  t.steps = get_int(m, "steps", 1, transient ? std::nullopt : std::optional<int>(t.steps));
+  if (auto stages = m.get("stages")) {
+    t.stages = read_stages(c, *stages, m, scene);
+    t.dt = t.stages.front().dt;
+    t.steps = 0;
+    for (const auto& s : t.stages) t.steps += s.steps;
+  } else {
+    t.dt = get_number(
+        m, "dt", [](double v) { return v > 0; }, "a finite number > 0 [ms]",
+        transient ? std::nullopt : std::optional<double>(t.dt));
+    t.steps = get_int(m, "steps", 1, transient ? std::nullopt : std::optional<int>(t.steps));
+    t.stages = {{t.dt, t.steps}};
+  }
   t.theta = get_number(
       m, "theta", [](double v) { return v >= 0.5 && v <= 1; }, "a number in [0.5, 1]", t.theta);
   t.steady_tolerance = get_number(
@@ -297,8 +328,53 @@ void read_solver(const Checker& c, const Node& node, Scene& scene) {
                        std::optional<Scatter>(s.scatter));
 }
 
+std::vector<ProbeSpec> read_probes(const Checker& c, const Node& node, const std::string& key,
+                                   const Scene& scene) {
+  const std::string list_expected = "a list of probes {name, point, quantity}";
+  if (!node.IsSequence()) c.wrong_type(node, key, list_expected);
+  std::vector<ProbeSpec> probes;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string ikey = index_key(key, i);
+    MapView m(c, node[i], ikey, {"name", "point", "quantity"}, "a map {name, point, quantity}");
+    ProbeSpec p;
+    p.line = line_of(node[i], 0);
+    const std::string name_expected = "a name of letters, digits and underscores (a CSV column)";
+    const Node name = m.require("name", name_expected);
+    p.name = string_value(c, name, m.key("name"), name_expected);
+    if (!valid_block_name(p.name))
+      c.fail(name, m.key("name"), "invalid name", p.name, name_expected);
+    for (const auto& q : probes)
+      if (q.name == p.name)
+        c.fail(name, m.key("name"), "duplicate probe name", p.name, name_expected);
+    const std::string point_expected =
+        "[x, y] (every node there through the thickness) or [x, y, z]";
+    const Node point = m.require("point", point_expected);
+    if (!point.IsSequence() || point.size() < 2 || point.size() > 3)
+      c.wrong_type(point, m.key("point"), point_expected);
+    for (size_t d = 0; d < point.size(); ++d)
+      p.point.push_back(number(
+          c, point[d], index_key(m.key("point"), d), [](double) { return true; }, "a number"));
+    p.quantity = get_enum(m, "quantity",
+                          {{"displacement", ProbeSpec::Quantity::Displacement},
+                           {"velocity", ProbeSpec::Quantity::Velocity},
+                           {"pressure", ProbeSpec::Quantity::Pressure}},
+                          std::optional<ProbeSpec::Quantity>());
+    const bool structural = p.quantity == ProbeSpec::Quantity::Displacement;
+    if (structural ? !scene.structure.enabled : !scene.fluid.enabled)
+      c.fail(*m.get("quantity"), m.key("quantity"),
+             structural ? "a displacement without a structure field"
+                        : "a flow value without a fluid field",
+             structural ? "displacement"
+                        : (p.quantity == ProbeSpec::Quantity::Velocity ? "velocity" : "pressure"),
+             structural ? "a fields.structure section" : "a fields.fluid section");
+    probes.push_back(p);
+  }
+  return probes;
+}
+
 void read_output(const Checker& c, const Node& node, const MeshNames& names, Scene& scene) {
-  MapView m(c, node, "output", {"directory", "every", "flux_boundaries", "force_boundaries"});
+  MapView m(c, node, "output",
+            {"directory", "every", "flux_boundaries", "force_boundaries", "probes"});
   OutputSpec& o = scene.output;
   if (auto d = m.get("directory")) {
     o.directory = string_value(c, *d, m.key("directory"), "a directory name");
@@ -317,6 +393,7 @@ void read_output(const Checker& c, const Node& node, const MeshNames& names, Sce
     c.fail(*m.get("force_boundaries"), m.key("force_boundaries"),
            "fluid forces asked for without a fluid field", render(*m.get("force_boundaries")),
            "a fields.fluid section, or no force_boundaries");
+  if (auto probes = m.get("probes")) o.probes = read_probes(c, *probes, m.key("probes"), scene);
 }
 
 // The time and solver sections' values in every field that uses them, so that each field's

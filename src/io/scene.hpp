@@ -23,8 +23,16 @@ enum class TimeMode { Transient, Steady };
 
 struct TimeSpec {
   TimeMode mode = TimeMode::Transient;
-  double dt = 1;                // > 0
-  int steps = 1;                // >= 1 (transient)
+  double dt = 1;  // > 0; with stages, the first stage's
+  int steps = 1;  // >= 1 (transient); with stages, their sum
+  // Consecutive stretches of a flow run (no scalar field), each with its own step: e.g. a coarse
+  // start-up, then the periodic state with a finer step. Without the `stages` key, one: {dt,
+  // steps}.
+  struct Stage {
+    double dt;
+    int steps;
+  };
+  std::vector<Stage> stages;
   double theta = 0.66;          // in [0.5, 1]
   double steady_tolerance = 0;  // stop early when max|phi_{n+1}-phi_n| / max|phi| < tol (0: never)
 };
@@ -40,11 +48,24 @@ struct SolverSpec {
   Scatter scatter = Scatter::Colored;
 };
 
+// A value recorded at every step of a flow run in series.csv: the mean over the mesh nodes at
+// `point` (2 coordinates: every node at that x, y, through a pseudo-2-D mesh's thickness).
+struct ProbeSpec {
+  enum class Quantity { Displacement, Velocity, Pressure };
+  std::string name;
+  std::vector<double> point;
+  Quantity quantity = Quantity::Displacement;
+  int line = 0;  // 1-based line in the scene file, for messages
+};
+
 struct OutputSpec {
   std::string directory = "out";
   int every = 1;                              // write every N steps (and always the last)
   std::vector<std::string> flux_boundaries;   // report the consistent flux through these sets
   std::vector<std::string> force_boundaries;  // report the fluid's force on these sets
+  // Flow runs (no scalar field) write series.csv, one row per step: the time, the fluid's force
+  // on each force boundary and each probe's value, when there are any.
+  std::vector<ProbeSpec> probes;
 };
 
 struct Scene {

@@ -155,11 +155,12 @@ std::vector<std::string> block_list(const MapView& m, const std::string& name,
 int line_of(const Node& n, int fallback);
 
 // The boundary_conditions list of a field section (required, non-empty, maps with the keys
-// boundary, type and value): calls read(item, line, boundary) for each, the boundary checked to
-// be a face set of the mesh.
+// boundary, type and value): read(item, line, boundary) of each, the boundary checked to be a
+// face set of the mesh.
 template <class Read>
-void for_each_boundary_condition(const MapView& m, const std::string& field,
-                                 const std::set<std::string>& face_sets, Read read) {
+auto read_boundary_conditions(const MapView& m, const std::string& field,
+                              const std::set<std::string>& face_sets, Read read) {
+  std::vector<decltype(read(m, 0, std::string()))> out;
   const Checker& c = m.checker();
   const std::string key = m.key("boundary_conditions");
   const std::string list_expected =
@@ -173,8 +174,10 @@ void for_each_boundary_condition(const MapView& m, const std::string& field,
     if (!item.IsMap()) c.wrong_type(item, ikey, "a map {boundary, type, ...}");
     const MapView typed(c, item, ikey, {"boundary", "type", "value"});
     const Node b = typed.require("boundary", "a face set of the mesh: " + join_list(names));
-    read(typed, line_of(item, 0), boundary_name(c, b, typed.key("boundary"), face_sets));
+    out.push_back(
+        read(typed, line_of(item, 0), boundary_name(c, b, typed.key("boundary"), face_sets)));
   }
+  return out;
 }
 
 }  // namespace scene_input

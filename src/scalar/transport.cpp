@@ -331,27 +331,11 @@ NewtonResult TransportField::steady_newton(const std::string& label) {
 }
 
 NewtonResult TransportField::solve_steady(const std::string& label) {
-  Vector start("biofsi::phi_steady_start", phi_.extent(0));
-  copy(phi_, start);
-  try {
-    return steady_newton(label);
-  } catch (const SolveError& first) {
-    if (settings_.pseudo_transient_steps == 0) throw;
-    const double t = time_;
-    return pseudo_transient_continuation(
-        first, "scalar", label, phi_, settings_.pseudo_transient_steps, settings_.pseudo_dt0,
-        [&](double dt, const std::string& l) {
-          try {
-            step_once(dt, 1.0, l, true);
-          } catch (const SolveError&) {
-            time_ = t;
-            throw;
-          }
-          time_ = t;
-        },
-        [&](const std::string& l) { return steady_newton(l); }, [&] { copy(start, phi_); },
-        stats_.pseudo_steps);
-  }
+  return solve_steady_with_continuation(
+      "scalar", label, phi_, time_, settings_.pseudo_transient_steps, settings_.pseudo_dt0,
+      [&](const std::string& l) { return steady_newton(l); },
+      [&](double dt, const std::string& l) { step_once(dt, 1.0, l, true); }, nullptr,
+      stats_.pseudo_steps);
 }
 
 double TransportField::integral(int block) const {

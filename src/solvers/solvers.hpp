@@ -232,18 +232,18 @@ NewtonResult retry_in_sub_steps(
     int max_cuts, const std::function<NewtonResult(double, const std::string&)>& sub_step,
     const std::function<void()>& restore, int& cut_steps);
 
-// A steady solve that failed with `first`, continued in pseudo-time: restore_start() puts the
-// field back to the state the solve started from; then backward-Euler pseudo-time steps
-// pseudo_step(dt, label) (throwing SolveError on failure, leaving the physical time as it was),
-// the step doubled after a success (counted in pseudo_steps) and quartered after a failure; once
-// a step changes `state` by less than 1e-3 of its norm, steady(label) is tried again. After
-// max_steps pseudo-time steps without a steady solution the start is restored and
-// SolveError(field, label, why first failed and that continuation did not help) is thrown.
-NewtonResult pseudo_transient_continuation(
-    const SolveError& first, const std::string& field, const std::string& label, Vector state,
-    int max_steps, double dt0, const std::function<void(double, const std::string&)>& pseudo_step,
-    const std::function<NewtonResult(const std::string&)>& steady,
-    const std::function<void()>& restore_start, int& pseudo_steps);
+// A steady solve, steady(label), continued in pseudo-time if it fails (and max_steps > 0): from
+// the state it started from (`state` restored, then restored()), backward-Euler pseudo-time steps
+// pseudo_step(dt, label) (SolveError on failure; `time`, the physical time, is put back after
+// each), the step doubled after a success (counted in pseudo_steps) and quartered after a
+// failure; once a step changes `state` by less than 1e-3 of its norm, steady(label) is tried
+// again. Without a steady solution after max_steps pseudo-time steps, the start is restored and
+// SolveError(field, label, why the first solve failed and that continuation did not help) thrown.
+NewtonResult solve_steady_with_continuation(
+    const std::string& field, const std::string& label, Vector state, double& time, int max_steps,
+    double dt0, const std::function<NewtonResult(const std::string&)>& steady,
+    const std::function<void(double, const std::string&)>& pseudo_step,
+    const std::function<void()>& restored, int& pseudo_steps);
 
 // Eisenstat-Walker choice 2 for Newton iteration k: gamma contraction^alpha (contraction =
 // ||r_k|| / ||r_{k-1}||), with their safeguard against a sudden drop of eta when the previous one

@@ -78,11 +78,8 @@ StructureSection read_structure_section(const MapView& fields, const MeshNames& 
   s.quasi_static = get_enum(m, "mode", {{"dynamic", false}, {"quasi_static", true}},
                             std::optional<bool>(s.quasi_static));
   s.plane_strain = get_bool(m, "plane_strain", s.plane_strain);
-  for_each_boundary_condition(
-      m, "structure", names.face_sets,
-      [&](const MapView& typed, int line, const std::string& boundary) {
-        section.boundary_conditions.push_back(read_boundary_condition(typed, line, boundary));
-      });
+  section.boundary_conditions =
+      read_boundary_conditions(m, "structure", names.face_sets, read_boundary_condition);
   return section;
 }
 

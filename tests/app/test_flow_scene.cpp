@@ -1,9 +1,12 @@
 // cases/dfg/dfg_2d1.yaml through the driver (run_scene): the .geo is meshed by gmsh when the scene
 // is read, only the flow is solved, the summary reports the force on the cylinder and the output
-// holds velocity and pressure. Reference: DFG 2D-1, c_D = 5.57953523384 (benchmarks.md).
+// holds velocity and pressure. Reference: DFG 2D-1, c_D = 5.57953523384 (benchmarks.md). A staged
+// transient run of it writes the series of forces and probe values.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <regex>
 #include <sstream>
@@ -47,4 +50,84 @@ TEST(FlowScene, DfgBenchmarkSceneGivesTheDragOnTheCoarsestMesh) {
   double umax = 0;
   for (double v : u) umax = std::max(umax, v);
   EXPECT_GT(umax, 0.3);  // faster than the inflow's peak 0.3 beside the cylinder
+}
+
+namespace {
+
+struct RunOutput {
+  int rc;
+  std::string out, err;
+};
+
+RunOutput run_quietly(const RunOptions& o) {
+  std::ostringstream text, errors;
+  auto* old_out = std::cout.rdbuf(text.rdbuf());
+  auto* old_err = std::cerr.rdbuf(errors.rdbuf());
+  const int rc = run_scene(o);
+  std::cout.rdbuf(old_out);
+  std::cerr.rdbuf(old_err);
+  return {rc, text.str(), errors.str()};
+}
+
+std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> row;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) row.push_back(cell);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace
+
+// A transient flow run in two stages of different steps writes series.csv: one row per step at
+// the staged times, with the force on each force boundary and the probes' values.
+TEST(FlowScene, StagedRunWritesTheSeriesOfForcesAndProbes) {
+  const fs::path out = fs::temp_directory_path() / "biofsi_app_series";
+  fs::remove_all(out);
+  RunOptions o;
+  o.scene_path = std::string(BIOFSI_SOURCE_DIR) + "/cases/dfg/dfg_2d1.yaml";
+  o.out_dir = out.string();
+  o.overrides = {"mesh.parameters.refine=1", "fields.fluid.mode=transient", "time.dt=null",
+                 "time.steps=null", "time.stages=[{dt: 0.5, steps: 2}, {dt: 0.25, steps: 1}]",
+                 // the outflow's lower corner (every node there through the thickness)
+                 "output.probes=[{name: corner, point: [2.2, 0], quantity: pressure}, "
+                 "{name: inlet, point: [0, 0.41, 0], quantity: velocity}]"};
+  RunOutput r = run_quietly(o);
+  ASSERT_EQ(r.rc, 0) << r.err << r.out;
+  const auto rows = read_csv(out / "series.csv");
+  ASSERT_EQ(rows.size(), 5u);  // header and steps 0 to 3
+  const std::vector<std::string> header = {"step",
+                                           "time",
+                                           "force_cylinder_x",
+                                           "force_cylinder_y",
+                                           "force_cylinder_z",
+                                           "corner_pressure",
+                                           "inlet_velocity_x",
+                                           "inlet_velocity_y",
+                                           "inlet_velocity_z"};
+  EXPECT_EQ(rows[0], header);
+  const double times[] = {0, 0.5, 1.0, 1.25};
+  for (int step = 0; step <= 3; ++step) {
+    ASSERT_EQ(rows[step + 1].size(), header.size());
+    EXPECT_EQ(std::stoi(rows[step + 1][0]), step);
+    EXPECT_NEAR(std::stod(rows[step + 1][1]), times[step], 1e-12);
+    for (const auto& cell : rows[step + 1]) EXPECT_TRUE(std::isfinite(std::stod(cell))) << cell;
+  }
+  // The inflow's upper corner is held at rest (the parabola and the wall's no-slip are zero
+  // there): the velocity probe reads it exactly.
+  for (int c = 6; c < 9; ++c) EXPECT_EQ(std::stod(rows[4][c]), 0.0);
+  EXPECT_GT(std::stod(rows[4][2]), 0);  // the flow drags the cylinder downstream
+
+  // A probe that is not at a mesh node stops the run before any solve, naming the key.
+  o.overrides.back() = "output.probes=[{name: off, point: [1.0001, 0.1234], quantity: pressure}]";
+  o.overwrite = true;
+  r = run_quietly(o);
+  EXPECT_EQ(r.rc, 1);
+  EXPECT_NE(r.err.find("output.probes[0].point: no mesh node at (1.0001, 0.1234)"),
+            std::string::npos)
+      << r.err;
 }

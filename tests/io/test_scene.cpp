@@ -704,5 +704,56 @@ TEST(Scene, RejectsInconsistentCoupledScenes) {
                "fields.structure and fields.fluid, or no fsi section");
 }
 
+TEST(Scene, ReadsTimeStagesOfAFlowRun) {
+  // kFull's scalar field is off: a flow run, whose steps may come in stages.
+  const std::vector<std::string> staged = {
+      "time.dt=null", "time.steps=null", "time.stages=[{dt: 0.5, steps: 2}, {dt: 0.25, steps: 3}]"};
+  const Scene s = parse_scene(kFull, kFile, staged);
+  ASSERT_EQ(s.time.stages.size(), 2u);
+  EXPECT_EQ(s.time.stages[1].dt, 0.25);
+  EXPECT_EQ(s.time.stages[1].steps, 3);
+  EXPECT_EQ(s.time.dt, 0.5);
+  EXPECT_EQ(s.time.steps, 5);
+  const Scene plain = parse_scene(kFull, kFile);
+  ASSERT_EQ(plain.time.stages.size(), 1u);
+  EXPECT_EQ(plain.time.stages[0].dt, plain.time.dt);
+  EXPECT_EQ(plain.time.stages[0].steps, plain.time.steps);
+  // Either dt and steps or stages; stages only where no inner loop of the scalar needs one dt.
+  EXPECT_TRUE(contains(error_of(kFull, {staged[2]}), "time.dt: dt and steps beside stages"));
+  std::vector<std::string> with_scalar = staged;
+  with_scalar.push_back("fields.scalar.enabled=true");
+  EXPECT_TRUE(contains(error_of(kFull, with_scalar),
+                       "time.stages: stages in a scene with the scalar field"));
+  EXPECT_TRUE(contains(
+      error_of(kFull, {"time.dt=null", "time.steps=null", "time.stages=[{dt: 0.5, steps: 0}]"}),
+      "time.stages[0].steps: out of range"));
+}
+
+TEST(Scene, ReadsProbesAndChecksTheirField) {
+  const std::string probes =
+      "output.probes=[{name: tip, point: [0.5, 1], quantity: velocity}, "
+      "{name: p0, point: [0, 0, 0], quantity: pressure}]";
+  const Scene s = parse_scene(with_fluid(kFull), kFile, {probes});
+  ASSERT_EQ(s.output.probes.size(), 2u);
+  EXPECT_EQ(s.output.probes[0].name, "tip");
+  EXPECT_EQ(s.output.probes[0].point, (std::vector<double>{0.5, 1}));
+  EXPECT_EQ(s.output.probes[0].quantity, ProbeSpec::Quantity::Velocity);
+  EXPECT_EQ(s.output.probes[1].quantity, ProbeSpec::Quantity::Pressure);
+  EXPECT_TRUE(
+      contains(error_of(with_fluid(kFull),
+                        {"output.probes=[{name: d, point: [0, 0], quantity: displacement}]"}),
+               "output.probes[0].quantity: a displacement without a structure field"));
+  EXPECT_TRUE(contains(error_of(kFull, {"output.probes=[{name: v, point: [0, 0], quantity: "
+                                        "velocity}]"}),
+                       "a flow value without a fluid field"));
+  EXPECT_TRUE(contains(error_of(with_fluid(kFull), {"output.probes=[{name: v, point: [0], "
+                                                    "quantity: velocity}]"}),
+                       "output.probes[0].point: wrong type"));
+  EXPECT_TRUE(contains(
+      error_of(with_fluid(kFull), {"output.probes=[{name: a, point: [0, 0], quantity: pressure}, "
+                                   "{name: a, point: [1, 0], quantity: pressure}]"}),
+      "duplicate probe name"));
+}
+
 }  // namespace
 }  // namespace biofsi
