@@ -368,25 +368,14 @@ void StructureField::end_step(double dt) {
   ++stats_.steps;
 }
 
-double StructureField::kinetic_energy() const {
-  StructureEnergyIntegrand e;
-  e.materials = device_materials(settings_.materials);
-  e.kinetic = true;
-  NodalView aux("biofsi::energy_aux", mesh_.n_nodes(), 6);
-  set_aux_vector(aux, 0, d_);
-  set_aux_vector(aux, 3, v_);
-  ElementOperator<StructureEnergyIntegrand> op(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux, e);
-  Vector r("biofsi::energy", mesh_.n_nodes()), unused("biofsi::energy_u", mesh_.n_nodes());
-  op.residual(groups_, unused, r);
-  double s = 0;
-  for (double x : to_host_vector(r)) s += x;
-  return s;
-}
+double StructureField::kinetic_energy() const { return energy(true); }
 
-double StructureField::strain_energy() const {
+double StructureField::strain_energy() const { return energy(false); }
+
+double StructureField::energy(bool kinetic) const {
   StructureEnergyIntegrand e;
   e.materials = device_materials(settings_.materials);
-  e.kinetic = false;
+  e.kinetic = kinetic;
   NodalView aux("biofsi::energy_aux", mesh_.n_nodes(), 6);
   set_aux_vector(aux, 0, d_);
   set_aux_vector(aux, 3, v_);

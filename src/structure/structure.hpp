@@ -172,6 +172,7 @@ class StructureField {
   void set_step_data(double dt);
   void predict_dirichlet(const std::string& label);
   double roundoff_floor() const;
+  double energy(bool kinetic) const;  // kinetic or strain energy of the current state
   void setup_preconditioner(ConstVector u);
 
   Mesh mesh_;
