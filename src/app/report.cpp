@@ -51,7 +51,7 @@ void print_active_fields(const Scene& scene) {
                           "; other blocks " +
                           (scene.structure.enabled ? std::string("elastic")
                                                    : std::string("held at rest")) +
-                          "; convects the scalar" +
+                          (scene.scalar.enabled ? "; convects the scalar" : "") +
                           (scene.growth.enabled && scene.growth.settings.k2 > 0
                                ? ", wall shear erodes the biofilm)"
                                : ")")
