@@ -32,55 +32,52 @@ void Progress::done() {
   if (tty_) std::cout << "\n";
 }
 
+namespace {
+
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+}  // namespace
+
 void print_active_fields(const Scene& scene) {
-  std::cout << "active fields (derived from the scene):\n"
-            << "  scalar transport: " << (scene.scalar.enabled ? "on" : "off (disabled in scene)")
-            << "\n"
-            << "  fluid:     "
-            << (scene.fluid.enabled
-                    ? "on (" +
-                          std::string(scene.fluid.mode == FlowMode::Steady ? "steady"
-                                                                           : "transient") +
-                          " incompressible Navier-Stokes on blocks " +
-                          [&] {
-                            std::string b;
-                            for (const auto& n : scene.fluid.settings.blocks)
-                              b += (b.empty() ? "" : ", ") + n;
-                            return b;
-                          }() +
-                          "; other blocks " +
-                          (scene.structure.enabled ? std::string("elastic")
-                                                   : std::string("held at rest")) +
-                          (scene.scalar.enabled ? "; convects the scalar" : "") +
-                          (scene.growth.enabled && scene.growth.settings.k2 > 0
-                               ? ", wall shear erodes the biofilm)"
-                               : ")")
-                    : std::string("off (the scene has no fields.fluid section)"))
-            << "\n"
-            << "  structure: "
-            << (scene.structure.enabled
-                    ? "on (" +
-                          std::string(scene.structure.settings.quasi_static ? "quasi-static"
-                                                                            : "dynamic") +
-                          " finite-strain elasticity on blocks " +
-                          [&] {
-                            std::string b;
-                            for (const auto& n : scene.structure.settings.blocks)
-                              b += (b.empty() ? "" : ", ") + n;
-                            return b;
-                          }() +
-                          ", coupled to the fluid by monolithic FSI on '" + scene.fsi.interface +
-                          "'; its motion moves the fluid mesh and the transport mesh)"
-                    : std::string("off (the scene has no fields.structure section: the biofilm "
-                                  "is rigid)"))
-            << "\n"
-            << "  growth:    "
-            << (scene.growth.enabled
-                    ? "on (" + std::to_string(scene.growth.steps) + " growth steps of " +
-                          std::to_string(scene.growth.settings.dt_bio) + " ms, interface '" +
-                          scene.growth.settings.interface_set + "')"
-                    : std::string("off (the scene has no growth section, or it is disabled)"))
-            << "\n";
+  std::cout
+      << "active fields (derived from the scene):\n"
+      << "  scalar transport: " << (scene.scalar.enabled ? "on" : "off (disabled in scene)") << "\n"
+      << "  fluid:     "
+      << (scene.fluid.enabled
+              ? "on (" +
+                    std::string(scene.fluid.mode == FlowMode::Steady ? "steady" : "transient") +
+                    " incompressible Navier-Stokes on blocks " + join(scene.fluid.settings.blocks) +
+                    "; other blocks " +
+                    (scene.structure.enabled ? std::string("elastic")
+                                             : std::string("held at rest")) +
+                    (scene.scalar.enabled ? "; convects the scalar" : "") +
+                    (scene.growth.enabled && scene.growth.settings.k2 > 0
+                         ? ", wall shear erodes the biofilm)"
+                         : ")")
+              : std::string("off (the scene has no fields.fluid section)"))
+      << "\n"
+      << "  structure: "
+      << (scene.structure.enabled
+              ? "on (" +
+                    std::string(scene.structure.settings.quasi_static ? "quasi-static"
+                                                                      : "dynamic") +
+                    " finite-strain elasticity on blocks " + join(scene.structure.settings.blocks) +
+                    ", coupled to the fluid by monolithic FSI on '" + scene.fsi.interface +
+                    "'; its motion moves the fluid mesh and the transport mesh)"
+              : std::string("off (the scene has no fields.structure section: the biofilm "
+                            "is rigid)"))
+      << "\n"
+      << "  growth:    "
+      << (scene.growth.enabled
+              ? "on (" + std::to_string(scene.growth.steps) + " growth steps of " +
+                    std::to_string(scene.growth.settings.dt_bio) + " ms, interface '" +
+                    scene.growth.settings.interface_set + "')"
+              : std::string("off (the scene has no growth section, or it is disabled)"))
+      << "\n";
   if (scene.growth.enabled)
     std::cout << "  mesh motion: on (pseudo-elastic, moves the biofilm and fluid meshes in each "
                  "growth step)\n";
