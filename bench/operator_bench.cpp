@@ -4,23 +4,13 @@
 // batches and with one element per batch, its linearisation, and the CSR matvec of the assembled
 // matrix of the same operator (hypre ParCSR and the kernels' Kokkos CSR). bench/run_operator_bench
 // runs it at 1 and 2 threads and prints the ratios; absolute rates depend on the machine's load.
-//
-// The mesh is the unit cube with n nodes per direction, interior nodes moved by up to 20% of h in
-// each direction (a deterministic hash, so every run sees the same mesh): every element is a
-// general trilinear hex. The states are real ones, each field's own physics:
-//   scalar: transient transport with SUPG, two diffusivities, Monod consumption in the upper block;
-//   structure: dynamic St. Venant-Kirchhoff (lower) and Neo-Hooke (upper), strains ~0.1;
-//   fluid: transient stabilised Navier-Stokes (SUPG/PSPG/grad-div), element Reynolds number ~10;
-//   mesh motion: pseudo-elasticity with Jacobian stiffening.
+// Mesh and states: bench/deformed_cube.hpp.
 //
 //   bench_operator [--dofs=N] [Google Benchmark flags]   (N: target DoF per field, default 1e6)
 #include <benchmark/benchmark.h>
 #include <mpi.h>
 
 #include <Kokkos_Core.hpp>
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
@@ -30,176 +20,35 @@
 #include <vector>
 
 #include "bench/bench_support.hpp"
-#include "kernels/ale/pointwise.hpp"
+#include "bench/deformed_cube.hpp"
 #include "kernels/core/stored_tangent.hpp"
-#include "kernels/fluid/pointwise.hpp"
-#include "kernels/scalar/pointwise.hpp"
-#include "kernels/structure/pointwise.hpp"
-#include "mesh/mesh.hpp"
 
 namespace biofsi {
 namespace {
 
-// A reproducible number in [-1, 1] from two integers.
-double hashed_unit(std::uint32_t a, std::uint32_t b) {
-  std::uint32_t h = a * 0x9E3779B1u ^ (b + 0x7F4A7C15u) * 0x85EBCA77u;
-  h ^= h >> 15;
-  h *= 0x2C1B3C6Du;
-  h ^= h >> 12;
-  return 2.0 * (h & 0xFFFFFF) / double(0xFFFFFF) - 1.0;
-}
-
-// Unit cube, n nodes per direction, two blocks (y < 1/2, y > 1/2), interior nodes perturbed.
-Mesh deformed_cube(int n) {
-  const int cells = n - 1;
-  BoxSpec spec;
-  spec.nx = spec.nz = cells;
-  spec.blocks = {{"lower", 0.0, 0.5, cells / 2, 1.0}, {"upper", 0.5, 1.0, cells - cells / 2, 1.0}};
-  Mesh mesh = make_box_mesh(spec);
-  const double h = 1.0 / cells, eps = 1e-12;
-  for (int i = 0; i < mesh.n_nodes(); ++i) {
-    auto& x = mesh.x[i];
-    bool interior = true;
-    for (int d = 0; d < 3; ++d) interior = interior && x[d] > eps && x[d] < 1 - eps;
-    if (!interior) continue;
-    for (int d = 0; d < 3; ++d) x[d] += 0.2 * h * hashed_unit(i, d);
-  }
-  return mesh;
-}
-
-template <class F>
-NodalView nodal_aux(const Mesh& mesh, int n_aux, F f) {
-  NodalView aux(std::string("bench::aux"), mesh.n_nodes(), n_aux > 0 ? n_aux : 1);
-  auto h = Kokkos::create_mirror_view(aux);
-  for (int i = 0; i < mesh.n_nodes(); ++i)
-    for (int c = 0; c < n_aux; ++c) h(i, c) = f(c, mesh.x[i]);
-  Kokkos::deep_copy(aux, h);
-  return aux;
-}
-
-template <class F>
-Vector nodal_vector(const Mesh& mesh, int nc, F f, const char* label) {
-  Vector v(std::string(label), nc * mesh.n_nodes());
-  auto h = Kokkos::create_mirror_view(v);
-  for (int i = 0; i < mesh.n_nodes(); ++i)
-    for (int c = 0; c < nc; ++c) h(nc * i + c) = f(c, mesh.x[i]);
-  Kokkos::deep_copy(v, h);
-  return v;
-}
-
-TransportPhysics scalar_physics() {
-  TransportPhysics p;
-  p.coef.diffusivity[0] = 1e-2, p.coef.diffusivity[1] = 5e-3;
-  p.coef.monod_rate[1] = 1.0, p.coef.monod_half_saturation[1] = 0.1;
-  p.inv_dt = 1.0, p.theta = 0.66, p.supg = true;
-  return p;
-}
-
-StructurePhysics structure_physics() {
-  StructurePhysics p;
-  p.materials.model[0] = SaintVenantKirchhoff, p.materials.model[1] = NeoHooke;
-  p.materials.lambda[0] = 0.577, p.materials.mu[0] = 0.385;
-  p.materials.lambda[1] = 1.55, p.materials.mu[1] = 0.172;
-  p.materials.density[0] = 1.0, p.materials.density[1] = 1.2;
-  p.dt = 0.01, p.theta = 0.66, p.mass_coefficient = 1.0 / (0.66 * 0.01 * 0.01);
-  return p;
-}
-
-FluidPhysics fluid_physics() {
-  FluidPhysics p;
-  p.density = 1.0, p.viscosity = 0.01, p.inv_dt = 20.0, p.theta = 0.66;
-  return p;
-}
-
-PseudoElasticPhysics mesh_motion_physics(const Mesh& mesh) {
-  PseudoElasticPhysics p;
-  p.lambda = 0.5, p.mu = 1.0, p.stiffening = 1.0;
-  const double h = 1.0 / std::cbrt(double(mesh.n_elements()));
-  p.reference_det = h * h * h / 8;
-  return p;
-}
-
-NodalView field_aux(const Mesh& m, const TransportPhysics&) {
-  return nodal_aux(m, TransportPhysics::n_aux, [](int c, const Point& x) {
-    if (c == 0) return 0.5 + 0.25 * std::sin(3 * x[0]) * std::cos(2 * x[1]);
-    if (c == 4) return x[1];
-    if (c == 5) return 0.1 * std::sin(4 * x[0]);
-    if (c == 6) return 0.2 * std::cos(3 * x[2]);
-    return 0.0;
-  });
-}
-NodalView field_aux(const Mesh& m, const StructurePhysics&) {
-  return nodal_aux(m, StructurePhysics::n_aux, [](int c, const Point& x) {
-    if (c == 0) return 0.05 * std::sin(3 * x[1]) * x[1];
-    if (c == 1) return 0.04 * x[0] * x[1];
-    if (c == 2) return 0.03 * std::cos(2 * x[2]) * x[1];
-    if (c == 3) return 0.1 * x[1];
-    return 0.0;
-  });
-}
-NodalView field_aux(const Mesh& m, const FluidPhysics&) {
-  return nodal_aux(m, FluidPhysics::n_aux, [](int c, const Point& x) {
-    if (c < 3) return 0.5 * std::sin(1.3 * x[0] + c) * std::cos(x[1] - 0.4 * x[2]);
-    if (c < 6) return 0.05 * std::cos(x[0] + 2 * x[1] + c);
-    return 0.0;
-  });
-}
-NodalView field_aux(const Mesh& m, const PseudoElasticPhysics&) {
-  return nodal_aux(m, 0, [](int, const Point&) { return 0.0; });
-}
-
 // One field's operator on the deformed cube, with everything each variant needs.
 template <class Physics>
-struct FieldProblem {
-  static constexpr int NC = Physics::n_components;
-  int n_dofs = 0;
-  Mesh mesh;
-  DeviceMesh device;
-  NodalView aux;
-  std::unique_ptr<ElementOperator<Physics>> op;
-  ElementGroups groups;
-  CsrMatrix matrix;
+struct FieldProblem : bench::AssembledField<Physics> {
   std::unique_ptr<bench::HypreCsr> hypre;
   FieldStoreOf<Physics> packed;  // what the fields use
   FieldStoreOf<Physics, 1> single;
   StoredTangentOf<Physics> full_map;  // the map itself, where the fields store point states
-  Vector u, x, y;
+  Vector x, y;
 
-  FieldProblem(int n, const Physics& physics) : mesh(deformed_cube(n)) {
-    n_dofs = NC * mesh.n_nodes();
-    device = to_device(mesh);
-    aux = field_aux(mesh, physics);
-    op = std::make_unique<ElementOperator<Physics>>(device.conn, device.x, device.element_block,
-                                                    aux, physics);
-    std::vector<int> all(mesh.n_elements());
-    for (int e = 0; e < mesh.n_elements(); ++e) all[e] = e;
-    groups = make_element_groups(mesh, all, Scatter::Colored);
-    u = nodal_vector(
-        mesh, NC,
-        [](int c, const Point& p) {
-          return 0.02 * std::cos(2 * p[0] + c) * (1 + p[1]) + (c == 3 ? 0.1 * p[0] : 0.0);
-        },
-        "bench::u");
-    x = nodal_vector(
-        mesh, NC, [](int c, const Point& p) { return std::sin(3 * p[0] - p[1] + c) + 0.2 * p[2]; },
+  FieldProblem(int n, const Physics& physics) : bench::AssembledField<Physics>(n, physics) {
+    x = bench::nodal_vector(
+        this->mesh, this->NC,
+        [](int c, const Point& p) { return std::sin(3 * p[0] - p[1] + c) + 0.2 * p[2]; },
         "bench::x");
-    y = Vector(std::string("bench::y"), n_dofs);
-    matrix = make_sparsity(mesh, all, NC);
-    op->assemble(groups, u, matrix);
-    Kokkos::fence();
-    hypre = std::make_unique<bench::HypreCsr>(matrix);
-    linearise(*op, groups, u, packed);
-    linearise(*op, groups, u, single);
+    y = Vector(std::string("bench::y"), this->n_dofs);
+    hypre = std::make_unique<bench::HypreCsr>(this->matrix);
+    linearise(*this->op, this->groups, this->u, packed);
+    linearise(*this->op, this->groups, this->u, single);
     if (std::is_same<FieldStoreOf<Physics>, StoredPointStates<Physics>>::value)
-      linearise(*op, groups, u, full_map);
+      linearise(*this->op, this->groups, this->u, full_map);
     Kokkos::fence();
   }
 };
-
-// Nodes per direction for about `dofs` unknowns of nc components.
-int nodes_per_direction(double dofs, int nc) {
-  return std::max(3, int(std::lround(std::cbrt(dofs / nc))));
-}
 
 // One problem alive at a time (the largest are several GB).
 std::shared_ptr<void> current;
@@ -228,7 +77,7 @@ void timed(benchmark::State& state, const P& p, const std::function<void()>& bod
 template <class Physics>
 void register_field(const std::string& field, double dofs, const Physics& physics) {
   using Problem = FieldProblem<Physics>;
-  const int n = nodes_per_direction(dofs, Physics::n_components);
+  const int n = bench::nodes_per_direction(dofs, Physics::n_components);
   const std::string suffix = "/" + std::to_string(n) + "^3";
   auto get = [field, n, physics]() -> Problem& { return problem(field, n, physics); };
   auto reg = [&](const std::string& variant, std::function<void(benchmark::State&)> fn) {
@@ -310,6 +159,7 @@ int main(int argc, char** argv) {
                                   std::to_string(Kokkos::DefaultExecutionSpace().concurrency()));
       benchmark::AddCustomContext("simd_width", std::to_string(biofsi::simd_width));
       using namespace biofsi;
+      using namespace biofsi::bench;
       register_field("scalar", dofs, scalar_physics());
       register_field("structure", dofs, structure_physics());
       register_field("fluid", dofs, fluid_physics());

@@ -40,6 +40,20 @@ std::string kokkos_backends() {
   return b + "; default execution space " + Kokkos::DefaultExecutionSpace::name();
 }
 
+// CMake read these from the HYPRE_config.h next to the library it links; a different one on the
+// include path would mean that the code is compiled against another hypre than it runs.
+#if defined(HYPRE_USING_OPENMP) != BIOFSI_HYPRE_OPENMP || \
+    defined(HYPRE_USING_CUDA) != BIOFSI_HYPRE_CUDA
+#error "HYPRE_config.h on the include path is not the one of the hypre that CMake chose"
+#endif
+
+std::string hypre_build() {
+  std::string s = HYPRE_RELEASE_VERSION;
+  s += BIOFSI_HYPRE_OPENMP ? " (OpenMP" : " (no OpenMP: BoomerAMG on one thread";
+  s += BIOFSI_HYPRE_CUDA ? ", CUDA" : ", no CUDA";
+  return s + ") from " + BIOFSI_HYPRE_LOCATION;
+}
+
 std::string mpi_library() {
   char text[MPI_MAX_LIBRARY_VERSION_STRING];
   int length = 0;
@@ -57,7 +71,7 @@ std::string version_report() {
   std::ostringstream s;
   s << "biofsi " << BIOFSI_VERSION << "\n"
     << "  Kokkos " << kokkos_version() << " (" << kokkos_backends() << ")\n"
-    << "  hypre " << HYPRE_RELEASE_VERSION << "\n"
+    << "  hypre " << hypre_build() << "\n"
     << "  MPI: " << mpi_library() << "\n"
     << "  HDF5 " << major << '.' << minor << '.' << release << "\n";
   return s.str();

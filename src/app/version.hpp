@@ -7,7 +7,8 @@
 
 namespace biofsi {
 
-// Multi-line report: biofsi, Kokkos (version and enabled backends), hypre, MPI library, HDF5.
+// Multi-line report: biofsi, Kokkos (version and enabled backends), hypre (version, OpenMP and
+// CUDA or not, install prefix or "Debian libhypre-dev"), MPI library, HDF5.
 std::string version_report();
 
 }  // namespace biofsi
