@@ -1,16 +1,22 @@
-// Pieces every operator benchmark shares: hypre's ParCSR copy of an assembled matrix (the CSR
-// baseline each matrix-free variant is compared with) and the per-DoF counters.
+// Pieces every bench program shares: registration with the common settings, the fenced timed loop,
+// the rate counters, one problem alive at a time, hypre's ParCSR copy of an assembled matrix (the
+// CSR baseline of bench_operator, the IJ copy of bench_amg) and BoomerAMG's systems settings.
 #pragma once
 
 #include <HYPRE.h>
 #include <HYPRE_parcsr_ls.h>
 #include <benchmark/benchmark.h>
 
+#include <Kokkos_Core.hpp>
+#include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/core/csr.hpp"
+#include "solvers/solvers.hpp"
 
 namespace biofsi {
 namespace bench {
@@ -80,6 +86,81 @@ inline void set_rate_counters(benchmark::State& state, int n_dofs) {
   state.counters["DoF"] = n_dofs;
   state.counters["MDoF/s"] =
       benchmark::Counter(1e-6 * n_dofs * state.iterations(), benchmark::Counter::kIsRate);
+}
+
+// The benchmark loop with the execution space fenced on both sides of each timed body.
+template <class Body>
+void fenced(benchmark::State& state, Body&& body) {
+  for (auto _ : state) {
+    Kokkos::fence();
+    body();
+    Kokkos::fence();
+  }
+}
+
+// A benchmark timed in real time (threads and hypre), reported in milliseconds.
+inline benchmark::internal::Benchmark* add(const std::string& name,
+                                           std::function<void(benchmark::State&)> fn) {
+  return benchmark::RegisterBenchmark(name.c_str(), std::move(fn))
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond);
+}
+
+// Cheap benchmarks repeated, reported as the aggregates only: the median damps other work on a
+// shared machine.
+inline benchmark::internal::Benchmark* repeated(benchmark::internal::Benchmark* b, int times) {
+  return b->Repetitions(times)->ReportAggregatesOnly(true);
+}
+
+// "/n^3", the size part of a benchmark's name.
+inline std::string cube_size(int n) { return "/" + std::to_string(n) + "^3"; }
+
+// One problem alive at a time (the largest take several GB): built at the first use of a key,
+// replaced when another key is asked for, freed by release() before MPI and Kokkos go.
+class OneAtATime {
+ public:
+  template <class Problem, class... Args>
+  Problem& get(const std::string& key, const Args&... args) {
+    if (key != key_) {
+      release();
+      object_ = std::make_shared<Problem>(args...);
+      key_ = key;
+    }
+    return *static_cast<Problem*>(object_.get());
+  }
+  void release() {
+    object_.reset();
+    key_.clear();
+  }
+
+ private:
+  std::string key_;
+  std::shared_ptr<void> object_;
+};
+
+// Systems BoomerAMG over interleaved 3-vectors with nodal coarsening, as the structure configures
+// it (StructureAmg::Systems).
+inline AmgOptions systems_amg() {
+  AmgOptions o;
+  o.num_functions = 3;
+  o.nodal_coarsening = true;
+  return o;
+}
+
+// FGMRES from zero on `apply` with the AMG preconditioner, fenced and timed per iteration, after
+// `setup` (timed with the solve) where one is given. Reports the iterations; fails the benchmark if
+// the last solve did not converge.
+inline void timed_fgmres(benchmark::State& state, const ApplyFn& apply, const BoomerAmg& amg,
+                         ConstVector b, Vector sol, const KrylovOptions& options,
+                         const std::function<void()>& setup = {}) {
+  KrylovResult res;
+  fenced(state, [&] {
+    if (setup) setup();
+    Kokkos::deep_copy(sol, 0.0);
+    res = fgmres(apply, amg.as_function(), b, sol, options);
+  });
+  if (!res.converged) state.SkipWithError(("FGMRES did not converge: " + res.reason).c_str());
+  state.counters["iterations"] = res.iterations;
 }
 
 }  // namespace bench

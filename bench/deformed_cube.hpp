@@ -1,9 +1,11 @@
-// The deformed unit cube and each field's operator on it, with a state of its own physics and the
-// assembled matrix: the problems bench_operator and bench_amg measure.
+// The unit cube and each field's operator on it, with a state of its own physics and the assembled
+// matrix: the problems every bench program measures.
 //
-// The mesh is the unit cube with n nodes per direction, interior nodes moved by up to 20% of h in
-// each direction (a deterministic hash, so every run sees the same mesh): every element is a
-// general trilinear hex. The states are real ones, each field's own physics:
+// The mesh is the unit cube with n nodes per direction, two blocks (y < 1/2, y > 1/2). Deformed
+// (bench_operator, bench_amg), its interior nodes are moved by up to 20% of h in each direction (a
+// deterministic hash, so every run sees the same mesh) and every element is a general trilinear
+// hex; plain (the per-field programs), it is the box. The states are real ones, each field's own
+// physics:
 //   scalar: transient transport with SUPG, two diffusivities, Monod consumption in the upper block;
 //   structure: dynamic St. Venant-Kirchhoff (lower) and Neo-Hooke (upper), strains ~0.1;
 //   fluid: transient stabilised Navier-Stokes (SUPG/PSPG/grad-div), element Reynolds number ~10;
@@ -36,20 +38,25 @@ inline double hashed_unit(std::uint32_t a, std::uint32_t b) {
   return 2.0 * (h & 0xFFFFFF) / double(0xFFFFFF) - 1.0;
 }
 
-// Unit cube, n nodes per direction, two blocks (y < 1/2, y > 1/2), interior nodes perturbed.
-inline Mesh deformed_cube(int n) {
+// How far deformed_cube's interior nodes move, in units of h; 0 gives the plain box.
+constexpr double deformed = 0.2, plain = 0.0;
+
+// Unit cube, n nodes per direction, two blocks (y < 1/2, y > 1/2), interior nodes moved by up to
+// distortion * h in each direction.
+inline Mesh deformed_cube(int n, double distortion = deformed) {
   const int cells = n - 1;
   BoxSpec spec;
   spec.nx = spec.nz = cells;
   spec.blocks = {{"lower", 0.0, 0.5, cells / 2, 1.0}, {"upper", 0.5, 1.0, cells - cells / 2, 1.0}};
   Mesh mesh = make_box_mesh(spec);
+  if (distortion == 0) return mesh;
   const double h = 1.0 / cells, eps = 1e-12;
   for (int i = 0; i < mesh.n_nodes(); ++i) {
     auto& x = mesh.x[i];
     bool interior = true;
     for (int d = 0; d < 3; ++d) interior = interior && x[d] > eps && x[d] < 1 - eps;
     if (!interior) continue;
-    for (int d = 0; d < 3; ++d) x[d] += 0.2 * h * hashed_unit(i, d);
+    for (int d = 0; d < 3; ++d) x[d] += distortion * h * hashed_unit(i, d);
   }
   return mesh;
 }
@@ -74,27 +81,28 @@ Vector nodal_vector(const Mesh& mesh, int nc, F f, const char* label) {
   return v;
 }
 
-inline TransportPhysics scalar_physics() {
+// Each field's physics at a one-step-theta step (theta 0.66) of the given length.
+inline TransportPhysics scalar_physics(double inv_dt = 1.0) {
   TransportPhysics p;
   p.coef.diffusivity[0] = 1e-2, p.coef.diffusivity[1] = 5e-3;
   p.coef.monod_rate[1] = 1.0, p.coef.monod_half_saturation[1] = 0.1;
-  p.inv_dt = 1.0, p.theta = 0.66, p.supg = true;
+  p.inv_dt = inv_dt, p.theta = 0.66, p.supg = true;
   return p;
 }
 
-inline StructurePhysics structure_physics() {
+inline StructurePhysics structure_physics(double dt = 0.01) {
   StructurePhysics p;
   p.materials.model[0] = SaintVenantKirchhoff, p.materials.model[1] = NeoHooke;
   p.materials.lambda[0] = 0.577, p.materials.mu[0] = 0.385;
   p.materials.lambda[1] = 1.55, p.materials.mu[1] = 0.172;
   p.materials.density[0] = 1.0, p.materials.density[1] = 1.2;
-  p.dt = 0.01, p.theta = 0.66, p.mass_coefficient = 1.0 / (0.66 * 0.01 * 0.01);
+  p.dt = dt, p.theta = 0.66, p.mass_coefficient = 1.0 / (p.theta * dt * dt);
   return p;
 }
 
-inline FluidPhysics fluid_physics() {
+inline FluidPhysics fluid_physics(double inv_dt = 20.0) {
   FluidPhysics p;
-  p.density = 1.0, p.viscosity = 0.01, p.inv_dt = 20.0, p.theta = 0.66;
+  p.density = 1.0, p.viscosity = 0.01, p.inv_dt = inv_dt, p.theta = 0.66;
   return p;
 }
 
@@ -115,11 +123,14 @@ inline NodalView field_aux(const Mesh& m, const TransportPhysics&) {
     return 0.0;
   });
 }
+// The structure's displacement: strains ~0.1, zero at the bottom.
+inline Point structure_displacement(const Point& x) {
+  return {0.05 * std::sin(3 * x[1]) * x[1], 0.04 * x[0] * x[1], 0.03 * std::cos(2 * x[2]) * x[1]};
+}
+
 inline NodalView field_aux(const Mesh& m, const StructurePhysics&) {
   return nodal_aux(m, StructurePhysics::n_aux, [](int c, const Point& x) {
-    if (c == 0) return 0.05 * std::sin(3 * x[1]) * x[1];
-    if (c == 1) return 0.04 * x[0] * x[1];
-    if (c == 2) return 0.03 * std::cos(2 * x[2]) * x[1];
+    if (c < 3) return structure_displacement(x)[c];
     if (c == 3) return 0.1 * x[1];
     return 0.0;
   });
@@ -140,7 +151,18 @@ inline int nodes_per_direction(double dofs, int nc) {
   return std::max(3, int(std::lround(std::cbrt(dofs / nc))));
 }
 
-// One field's operator on the deformed cube, its state u and the matrix assembled at u.
+// The state every field is linearised at unless a program gives its own: component c at x.
+inline double field_state(int c, const Point& p) {
+  return 0.02 * std::cos(2 * p[0] + c) * (1 + p[1]) + (c == 3 ? 0.1 * p[0] : 0.0);
+}
+
+inline std::vector<int> all_elements(const Mesh& mesh) {
+  std::vector<int> all(mesh.n_elements());
+  for (int e = 0; e < mesh.n_elements(); ++e) all[e] = e;
+  return all;
+}
+
+// One field's operator on the cube, its state u and the matrix assembled at u (coloured scatter).
 template <class Physics>
 struct AssembledField {
   static constexpr int NC = Physics::n_components;
@@ -153,21 +175,17 @@ struct AssembledField {
   CsrMatrix matrix;
   Vector u;
 
-  AssembledField(int n, const Physics& physics) : mesh(deformed_cube(n)) {
+  AssembledField(int n, const Physics& physics, double distortion = deformed,
+                 double (*state)(int, const Point&) = field_state)
+      : mesh(deformed_cube(n, distortion)) {
     n_dofs = NC * mesh.n_nodes();
     device = to_device(mesh);
     aux = field_aux(mesh, physics);
     op = std::make_unique<ElementOperator<Physics>>(device.conn, device.x, device.element_block,
                                                     aux, physics);
-    std::vector<int> all(mesh.n_elements());
-    for (int e = 0; e < mesh.n_elements(); ++e) all[e] = e;
+    const std::vector<int> all = all_elements(mesh);
     groups = make_element_groups(mesh, all, Scatter::Colored);
-    u = nodal_vector(
-        mesh, NC,
-        [](int c, const Point& p) {
-          return 0.02 * std::cos(2 * p[0] + c) * (1 + p[1]) + (c == 3 ? 0.1 * p[0] : 0.0);
-        },
-        "bench::u");
+    u = nodal_vector(mesh, NC, state, "bench::u");
     matrix = make_sparsity(mesh, all, NC);
     op->assemble(groups, u, matrix);
     Kokkos::fence();
