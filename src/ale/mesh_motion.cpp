@@ -93,13 +93,17 @@ PseudoElasticPhysics pseudo_elastic_physics(const MeshMotionSettings& settings, 
 }
 
 MeshMotion::MeshMotion(const Mesh& mesh, const MeshMotionSettings& settings)
+    : MeshMotion(mesh, settings, all_elements(mesh)) {}
+
+MeshMotion::MeshMotion(const Mesh& mesh, const MeshMotionSettings& settings,
+                       const std::vector<int>& elements)
     : settings_(settings),
       topology_(mesh),
       dmesh_(to_device(mesh)),
-      groups_(make_element_groups(mesh, all_elements(mesh), settings.scatter)),
+      groups_(make_element_groups(mesh, elements, settings.scatter)),
       op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, ConstNodalView{},
-          pseudo_elastic_physics(settings, mesh, all_elements(mesh))),
-      matrix_(make_sparsity(mesh, all_elements(mesh), 3)),
+          pseudo_elastic_physics(settings, mesh, elements)),
+      matrix_(make_sparsity(mesh, elements, 3)),
       amg_(systems_amg()) {}
 
 void MeshMotion::bind(const Mesh& mesh) {
@@ -108,10 +112,25 @@ void MeshMotion::bind(const Mesh& mesh) {
   copy_coordinates_to_device(mesh, dmesh_.x);
 }
 
+void MeshMotion::set_coordinates(const Mesh& mesh) { bind(mesh); }
+
+void MeshMotion::linearise() {
+  const Vector zero("biofsi::zero", 3 * topology_.n_nodes());
+  fill(matrix_.val, 0);
+  op_.assemble(groups_, zero, matrix_);
+  biofsi::linearise(op_, groups_, zero, stored_);
+}
+
+void MeshMotion::add_residual(ConstVector d, Vector r) const { op_.residual(groups_, d, r); }
+
+void MeshMotion::add_linearised(ConstVector d, Vector y) const { apply_stored(stored_, d, y); }
+
+void MeshMotion::setup_preconditioner() { amg_.setup(matrix_); }
+
 void MeshMotion::residual(const Mesh& mesh, ConstVector d, Vector r) {
   bind(mesh);
   fill(r, 0);
-  op_.residual(groups_, d, r);
+  add_residual(d, r);
 }
 
 void MeshMotion::assemble(const Mesh& mesh, const CsrMatrix& a) {
@@ -141,7 +160,7 @@ std::vector<Point> MeshMotion::solve(const Mesh& mesh, const MeshDisplacementBc&
   op.residual(groups, d, rhs);
   scale(-1.0, rhs);
   zero_constrained(fixed_dofs, rhs);
-  linearise(op, groups, d, stored_);
+  biofsi::linearise(op, groups, d, stored_);
   const ApplyFn apply = [&](ConstVector x, Vector y) {
     copy(x, scratch);
     zero_constrained(fixed_dofs, scratch);

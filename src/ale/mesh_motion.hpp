@@ -61,7 +61,11 @@ PseudoElasticPhysics pseudo_elastic_physics(const MeshMotionSettings& settings, 
 
 class MeshMotion {
  public:
+  // Over every element of `mesh`, or only over `elements` (the fluid's, in an FSI); nodes outside
+  // them belong to no element of the operator and must be constrained by the caller.
   MeshMotion(const Mesh& mesh, const MeshMotionSettings& settings);
+  MeshMotion(const Mesh& mesh, const MeshMotionSettings& settings,
+             const std::vector<int>& elements);
 
   // Solves for the displacement of every node given the boundary data, on the mesh's current
   // coordinates, and returns it (host, per node). Throws SolveError (field "mesh motion") if the
@@ -74,6 +78,21 @@ class MeshMotion {
   void assemble(const Mesh& mesh, const CsrMatrix& a);
   const CsrMatrix& pattern() const { return matrix_; }
 
+  // The operator as one block of a monolithic system (src/coupling), whose solver owns the
+  // constraints: K on the coordinates of the last set_coordinates. K does not depend on d (the
+  // stiffening uses the element's det J on those coordinates), so one linearise serves until the
+  // coordinates change.
+  void set_coordinates(const Mesh& mesh);
+  ConstCoordView coordinates() const { return dmesh_.x; }
+  // Assembles matrix() (no constraints) and stores the tangent.
+  void linearise();
+  void add_residual(ConstVector d, Vector r) const;    // r += K d, matrix-free
+  void add_linearised(ConstVector d, Vector y) const;  // y += K d, stored tangent
+  CsrMatrix& matrix() { return matrix_; }              // the caller eliminates its constraints
+  const CsrMatrix& matrix() const { return matrix_; }
+  void setup_preconditioner();  // BoomerAMG on matrix() as it is now
+  void precondition(ConstVector r, Vector z) const { amg_.apply(r, z); }
+
  private:
   void bind(const Mesh& mesh);
 
@@ -82,7 +101,7 @@ class MeshMotion {
   DeviceMesh dmesh_;
   ElementGroups groups_;
   ElementOperator<PseudoElasticPhysics> op_;
-  StoredTangentOf<PseudoElasticPhysics> stored_;  // op_'s tangent on the mesh of the current solve
+  StoredTangentOf<PseudoElasticPhysics> stored_;  // op_'s tangent on the current coordinates
   CsrMatrix matrix_;
   BoomerAmg amg_;
 };

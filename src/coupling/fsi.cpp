@@ -96,17 +96,12 @@ struct FsiProblem::Impl {
   Kokkos::View<char*, MemSpace> interface_node;
   Kokkos::View<const char*, MemSpace> structure_fixed, fluid_fixed;
 
-  // The fluid mesh: pseudo-elasticity on the reference coordinates.
-  CoordView x_ref, x_work;
-  ElementGroups mesh_groups;
-  ElementOperator<PseudoElasticPhysics> mesh_op;
-  StoredTangentOf<PseudoElasticPhysics>
-      mesh_tangent;           // mesh_op's (state-independent) tangent on the reference
+  // The fluid mesh: pseudo-elasticity on the reference coordinates, over the fluid's elements.
+  MeshMotion mesh_motion;
+  CoordView x_work;
   IndexView mesh_fixed_dofs;  // walls and nodes outside the fluid, not the interface
   Vector mesh_fixed_values;
   Kokkos::View<char*, MemSpace> mesh_eliminated;  // fixed or condensed
-  CsrMatrix mesh_matrix;
-  BoomerAmg mesh_amg;
   CouplingBlock mesh_coupling;   // free mesh rows x condensed mesh columns (= structure dofs)
   CouplingBlock fluid_coupling;  // free fluid rows x condensed velocity columns
   CouplingBlock force_coupling;  // interface momentum rows (structure rows) x free fluid columns
@@ -114,7 +109,7 @@ struct FsiProblem::Impl {
 
   // The solve being set up: u_F = a s + b on Γ, grid velocity (d_G - d_G,n) inv_dt.
   double a = 0, inv_dt = 0;
-  // The fluid solves on x_ref + g_old + w (g - g_old): w = theta, the time level of every fluid
+  // The fluid solves on X + g_old + w (g - g_old): w = theta, the time level of every fluid
   // term (kernels/fluid/pointwise.hpp); 1 for steady solves and between steps.
   double configuration_weight = 1;
   Vector b, g_old, g_now, grid_velocity;
@@ -131,14 +126,7 @@ struct FsiProblem::Impl {
         s_range(0, 3 * nn),
         f_range(3 * nn, 7 * nn),
         g_range(7 * nn, 10 * nn),
-        mesh_op(ConstConnView{}, ConstCoordView{}, ConstIndexView{}, ConstNodalView{},
-                PseudoElasticPhysics{}),
-        mesh_amg([] {
-          AmgOptions o;
-          o.num_functions = 3;
-          o.nodal_coarsening = true;
-          return o;
-        }()) {}
+        mesh_motion(mesh, st.mesh_motion, f.elements()) {}
 
   Vector part(Vector v, Range r) const { return Kokkos::subview(v, r); }
   ConstVector part(ConstVector v, Range r) const { return Kokkos::subview(v, r); }
@@ -216,16 +204,7 @@ FsiProblem::FsiProblem(const Mesh& mesh, FluidField& fluid, StructureField& stru
     m.mesh_fixed_values = fixed.values();
     m.mesh_eliminated = to_device(eliminated, "biofsi::fsi_mesh_eliminated");
   }
-  m.mesh_groups = make_element_groups(mesh, fluid.elements(), settings.mesh_motion.scatter);
-  m.mesh_matrix = make_sparsity(mesh, fluid.elements(), 3);
-  {
-    const DeviceMesh dm = to_device(mesh);
-    m.x_ref = dm.x;
-    m.x_work = CoordView("biofsi::fsi_x", nn);
-    m.mesh_op = ElementOperator<PseudoElasticPhysics>(
-        dm.conn, dm.x, dm.element_block, ConstNodalView{},
-        pseudo_elastic_physics(settings.mesh_motion, mesh, fluid.elements()));
-  }
+  m.x_work = CoordView("biofsi::fsi_x", nn);
   m.b = Vector("biofsi::fsi_b", 3 * nn);
   m.g_old = Vector("biofsi::fsi_g_old", 3 * nn);
   m.g_now = Vector("biofsi::fsi_g", 3 * nn);
@@ -245,7 +224,7 @@ FsiProblem::~FsiProblem() = default;
 
 void FsiProblem::set_reference(const Mesh& mesh) {
   Impl& m = *impl_;
-  copy_coordinates_to_device(mesh, m.x_ref);
+  m.mesh_motion.set_coordinates(mesh);
   m.structure.set_reference_coordinates(mesh);
   // The smallest fluid element edge, for the size of the finite-difference shape perturbation.
   double h_min = std::numeric_limits<double>::infinity();
@@ -262,10 +241,7 @@ void FsiProblem::set_reference(const Mesh& mesh) {
   // The fluid mesh's matrix on the new reference, its coupling columns, then the elimination.
   {
     ScopedTimer t(stats_.seconds_assembly);
-    fill(m.mesh_matrix.val, 0);
-    const Vector zero("biofsi::zero", 3 * n_nodes_);
-    m.mesh_op.assemble(m.mesh_groups, zero, m.mesh_matrix);
-    linearise(m.mesh_op, m.mesh_groups, zero, m.mesh_tangent);
+    m.mesh_motion.linearise();
   }
   {
     const std::vector<char> eliminated = to_host(m.mesh_eliminated);
@@ -274,17 +250,17 @@ void FsiProblem::set_reference(const Mesh& mesh) {
       if (!eliminated[i]) row_of[i] = i;
     for (int n : mesh.node_sets.at(m.settings.interface))
       for (int c = 0; c < 3; ++c) column_of[3 * n + c] = 3 * n + c;
-    m.mesh_coupling = make_coupling(m.mesh_matrix, row_of, column_of, 3 * n_nodes_);
-    m.mesh_coupling.refresh(m.mesh_matrix);
+    m.mesh_coupling = make_coupling(m.mesh_motion.matrix(), row_of, column_of, 3 * n_nodes_);
+    m.mesh_coupling.refresh(m.mesh_motion.matrix());
   }
-  csr_eliminate_constrained(m.mesh_matrix, m.mesh_eliminated);
+  csr_eliminate_constrained(m.mesh_motion.matrix(), m.mesh_eliminated);
   {
     ScopedTimer t(stats_.seconds_preconditioner_setup);
-    m.mesh_amg.setup(m.mesh_matrix);
+    m.mesh_motion.setup_preconditioner();
   }
   // The fluid sees the new reference moved by the fluid mesh displacement it had.
   auto x = m.x_work;
-  auto x0 = m.x_ref;
+  auto x0 = m.mesh_motion.coordinates();
   auto g = m.g_now;
   Kokkos::parallel_for(
       "biofsi::fsi_geometry", Kokkos::RangePolicy<ExecSpace>(0, n_nodes_), KOKKOS_LAMBDA(int n) {
@@ -333,10 +309,10 @@ void sync_direction(const FsiProblem::Impl& m, ConstVector dx, Vector dxs) {
       });
 }
 
-// x_work = x_ref + g_old + w (g - g_old), grid velocity (g - g_old) inv_dt, handed to the fluid.
+// x_work = X + g_old + w (g - g_old), grid velocity (g - g_old) inv_dt, handed to the fluid.
 void move_fluid_mesh(FsiProblem::Impl& m, ConstVector g) {
   auto x = m.x_work;
-  auto x0 = m.x_ref;
+  auto x0 = m.mesh_motion.coordinates();
   auto ug = m.grid_velocity;
   auto g_old = m.g_old;
   const double inv_dt = m.inv_dt, w = m.configuration_weight;
@@ -408,7 +384,7 @@ void FsiProblem::residual(ConstVector x, Vector r) {
   add_interface_rows(m, rf, rs);
   constrained_residual(m.fluid.constrained_dofs(), m.fluid.constrained_values(), f, rf);
   fill(rg, 0);
-  m.mesh_op.residual(m.mesh_groups, g, rg);
+  m.mesh_motion.add_residual(g, rg);
   constrained_residual(m.mesh_fixed_dofs, m.mesh_fixed_values, g, rg);
   condensed_rows(m, x, rf, rg, true);
 }
@@ -451,7 +427,7 @@ void apply_jacobian(FsiProblem::Impl& m, FsiStats& stats, ConstVector dx, Vector
   add_interface_rows(m, yf, ys);
   copy_constrained(m.fluid.constrained_dofs(), m.part(dx, m.f_range), yf);
   fill(yg, 0);
-  apply_stored(m.mesh_tangent, dg, yg);
+  m.mesh_motion.add_linearised(dg, yg);
   copy_constrained(m.mesh_fixed_dofs, m.part(dx, m.g_range), yg);
   condensed_rows(m, dx, yf, yg, false);
 }
@@ -561,8 +537,8 @@ void apply_preconditioner(FsiProblem::Impl& m, FsiStats& stats, ConstVector r, V
   copy(m.part(r, m.g_range), rg);
   csr_multiply_add(m.mesh_coupling.m, -1.0, zs, 1.0, rg);
   block_solve(
-      m.mesh_matrix, [&m](ConstVector x, Vector y) { m.mesh_amg.apply(x, y); }, true, tol, max_it,
-      rg, zg, stats.inner_iterations[2], stats.seconds_inner[2]);
+      m.mesh_motion.matrix(), [&m](ConstVector x, Vector y) { m.mesh_motion.precondition(x, y); },
+      true, tol, max_it, rg, zg, stats.inner_iterations[2], stats.seconds_inner[2]);
 }
 
 // Displacement of every node: the structure's d on its nodes, the fluid mesh's g elsewhere (the
@@ -664,7 +640,8 @@ namespace {
 // state before it is zero), and Newton then chased the fluid mesh's round-off (2.7e-7 on
 // Turek-Hron FSI2 refine 1) through 188 Krylov iterations.
 std::array<double, 3> roundoff_floors(const FsiProblem::Impl& m, ConstVector state) {
-  const CsrMatrix* matrices[3] = {&m.structure.matrix(), &m.fluid.matrix(), &m.mesh_matrix};
+  const CsrMatrix* matrices[3] = {&m.structure.matrix(), &m.fluid.matrix(),
+                                  &m.mesh_motion.matrix()};
   const Range ranges[3] = {m.s_range, m.f_range, m.g_range};
   std::array<double, 3> floors{};
   for (int i = 0; i < 3; ++i) {
