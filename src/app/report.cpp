@@ -66,8 +66,10 @@ void print_active_fields(const Scene& scene) {
                     std::string(scene.structure.settings.quasi_static ? "quasi-static"
                                                                       : "dynamic") +
                     " finite-strain elasticity on blocks " + join(scene.structure.settings.blocks) +
-                    ", coupled to the fluid by monolithic FSI on '" + scene.fsi.interface +
-                    "'; its motion moves the fluid mesh and the transport mesh)"
+                    (scene.fluid.enabled
+                         ? ", coupled to the fluid by monolithic FSI on '" + scene.fsi.interface +
+                               "'; its motion moves the fluid mesh and the transport mesh)"
+                         : std::string(", alone under its body force and boundary data)"))
               : std::string("off (the scene has no fields.structure section: the biofilm "
                             "is rigid)"))
       << "\n"
@@ -132,6 +134,12 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
       << " preconditioner set-ups, " << f.cut_steps << " time steps cut, " << f.pseudo_steps
       << " pseudo-time steps\n";
   }
+  if (sim.structure && !sim.fsi) {
+    const StructureStats& f = sim.structure->stats();
+    o << "  structure: " << f.steps << " steps, " << f.newton_iterations << " Newton and "
+      << f.krylov_iterations << " Krylov iterations, " << f.amg_setups << " AMG set-ups, "
+      << f.cut_steps << " time steps cut\n";
+  }
   if (sim.fsi) {
     const FsiStats& f = sim.fsi->stats();
     double d_max = 0;
@@ -158,6 +166,11 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
       << ", preconditioner " << f.seconds_preconditioner << ", block Krylov structure "
       << f.seconds_inner[0] << ", block Krylov fluid " << f.seconds_inner[1]
       << ", block Krylov fluid mesh " << f.seconds_inner[2] << ")";
+  } else if (sim.structure) {
+    const StructureStats& f = sim.structure->stats();
+    o << "; structure " << f.seconds_solve << " (residual " << f.seconds_residual << ", tangent "
+      << f.seconds_tangent << ", linearisation " << f.seconds_linearise << ", assembly "
+      << f.seconds_assembly << ", AMG set-up " << f.seconds_amg_setup << ")";
   } else if (sim.fluid) {
     const FluidStats& f = sim.fluid->stats();
     o << "; fluid " << f.seconds_solve << " (residual " << f.seconds_residual << ", tangent "
@@ -250,7 +263,7 @@ void Series::record(int step, double time) {
       std::vector<Point>& v = quantity == ProbeSpec::Quantity::Velocity ? velocity : displacement;
       if (v.empty())
         v = quantity == ProbeSpec::Quantity::Velocity ? sim_.fluid->velocity()
-                                                      : sim_.fsi->displacement();
+                                                      : sim_.displacement();
       for (int d = 0; d < 3; ++d) mean[d] += v[n][d] / nodes.size();
     }
     if (quantity == ProbeSpec::Quantity::Pressure)

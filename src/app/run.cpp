@@ -58,7 +58,7 @@ class Driver {
     int step =
         0;  // the step being taken: a failed one writes the last valid state under its number
     try {
-      if (scene_.fluid.mode == FlowMode::Steady) {
+      if (!sim_.flow_is_transient()) {
         solve_steady_flow("steady flow");
         step = 1;
         write(step, sim_.time(), {});
@@ -215,13 +215,13 @@ class Driver {
   InnerLoopResult inner_loop(const std::string& prefix, OnStep on_step, AfterStep after_step) {
     InnerLoopResult r;
     std::vector<std::vector<double>> previous = sim_.inner_states();
-    for (const TimeSpec::Stage& stage : scene_.time.stages)
+    for (const TimeSpec::Stage& stage : scene_.time.stages) {
+      if (sim_.flow_is_transient()) sim_.set_theta(stage.theta);
       for (int s = 1; s <= stage.steps; ++s) {
         const int i = r.steps + 1;
         std::ostringstream label;
         label << prefix << "inner step " << i << " (t = " << sim_.time() + stage.dt << ")";
-        if (sim_.fluid && scene_.fluid.mode == FlowMode::Transient)
-          advance_flow(label.str(), stage.dt);
+        if (sim_.flow_is_transient()) advance_flow(label.str(), stage.dt);
         if (sim_.transport_runs()) sim_.scalar.step(stage.dt, label.str());
         std::vector<std::vector<double>> now = sim_.inner_states();
         r.change = 0;
@@ -236,6 +236,7 @@ class Driver {
           return r;
         }
       }
+    }
     return r;
   }
 
@@ -416,7 +417,7 @@ int run_scene(const RunOptions& options) {
       options.out_dir.empty() ? scene.output.directory : options.out_dir;
   std::cout << "biofsi: scene " << scene.file << ", output " << out_dir.string() << "\n";
   print_active_fields(scene);
-  if (!scene.scalar.enabled && !scene.fluid.enabled) {
+  if (!scene.scalar.enabled && !scene.fluid.enabled && !scene.structure.enabled) {
     std::cout << "nothing to solve: every field is off\n";
     return 0;
   }

@@ -12,13 +12,16 @@ Simulation::Simulation(const Scene& s)
     : scene(s),
       mesh(make_scene_mesh(s)),
       scalar(mesh, s.scalar.settings, scalar_boundary_conditions(s.scalar)) {
-  if (s.fluid.enabled)
+  if (s.fluid.enabled) {
     fluid =
         std::make_unique<FluidField>(mesh, s.fluid.settings, fluid_boundary_conditions(s.fluid));
+    if (s.fluid.body_force) fluid->set_body_force(fluid_body_force(s.fluid));
+  }
   if (s.structure.enabled) {
     structure = std::make_unique<StructureField>(mesh, s.structure.settings,
                                                  structure_boundary_conditions(s.structure));
-    fsi = std::make_unique<FsiProblem>(mesh, *fluid, *structure, s.fsi);
+    if (s.structure.body_force) structure->set_body_force(structure_body_force(s.structure));
+    if (fluid) fsi = std::make_unique<FsiProblem>(mesh, *fluid, *structure, s.fsi);
   }
   scalar.set_initial(space_time_function(s.scalar.initial), 0.0);
   std::array<SpaceTimeFunction, 3> v;
@@ -38,14 +41,29 @@ NewtonResult Simulation::solve_steady_flow(const std::string& label) {
 void Simulation::advance_flow(const std::string& label, double dt) {
   if (fsi)
     fsi->step(dt, label);
-  else
+  else if (fluid)
     fluid->step(dt, label);
+  else
+    structure->step(dt, label);
   after_flow_solve(label);
+}
+
+bool Simulation::flow_is_transient() const {
+  return fluid ? scene.fluid.mode == FlowMode::Transient : structure != nullptr;
+}
+
+void Simulation::set_theta(double theta) {
+  if (fluid) fluid->set_theta(theta);
+  if (structure) structure->set_theta(theta);
+}
+
+std::vector<Point> Simulation::displacement() const {
+  return fsi ? fsi->displacement() : structure->displacement();
 }
 
 void Simulation::after_flow_solve(const std::string& label) {
   if (!fsi) {
-    scalar.set_convective_velocity(fluid->velocity());
+    if (fluid) scalar.set_convective_velocity(fluid->velocity());
     return;
   }
   const Mesh current = fsi->current_mesh();
@@ -76,13 +94,16 @@ void Simulation::check_deformed_quality(const Mesh& current, const std::string& 
   }
 }
 
-double Simulation::time() const { return transport_runs() ? scalar.time() : fluid->time(); }
+double Simulation::time() const {
+  if (transport_runs()) return scalar.time();
+  return fluid ? fluid->time() : structure->time();
+}
 
 std::vector<std::vector<double>> Simulation::inner_states() const {
   std::vector<std::vector<double>> out;
   if (transport_runs()) out.push_back(scalar.solution_host());
-  if (fluid && scene.fluid.mode == FlowMode::Transient) {
-    out.push_back(fluid->solution_host());
+  if (flow_is_transient()) {
+    if (fluid) out.push_back(fluid->solution_host());
     if (structure) {
       std::vector<double> d;
       for (const auto& p : structure->displacement()) d.insert(d.end(), p.begin(), p.end());
@@ -101,9 +122,9 @@ std::vector<double> Simulation::wall_shear(const std::string& set) const {
 }
 
 std::vector<OutputField> Simulation::output_fields(std::vector<OutputField> extra) const {
-  if (fsi) {
+  if (structure) {
     std::vector<double> d;
-    for (const auto& v : fsi->displacement()) d.insert(d.end(), v.begin(), v.end());
+    for (const auto& v : displacement()) d.insert(d.end(), v.begin(), v.end());
     extra.insert(extra.begin(), {"displacement", 3, false, d});
     // The biofilm's stress state per element (zero outside the structure's blocks), and its
     // velocity (zero in quasi-static runs).

@@ -31,8 +31,15 @@ struct Simulation {
 
   // The steady flow (coupled with the structure where there is one), then after_flow_solve.
   NewtonResult solve_steady_flow(const std::string& label);
-  // One step of the transient flow (coupled where there is a structure), then after_flow_solve.
+  // One step of the transient flow (coupled where there is a structure; or the structure alone
+  // when the scene has no fluid), then after_flow_solve.
   void advance_flow(const std::string& label, double dt);
+  // Whether advance_flow steps something: a transient fluid, or a structure alone.
+  bool flow_is_transient() const;
+  // One-step-theta's theta of the fluid and the structure from the next step on (a time stage's).
+  void set_theta(double theta);
+  // Per node: the structure's displacement on its nodes, with FSI the fluid mesh's elsewhere.
+  std::vector<Point> displacement() const;
   // The transport sees the flow on the configuration it was solved on: with FSI the deformed
   // mesh (checked against mesh_motion.min_quality), the ALE convective velocity c = u - u_grid in
   // the fluid and the biofilm's own velocity for its Phi div u_S term (c = 0 there: its mesh

@@ -502,6 +502,12 @@ void FluidField::end_step(double dt) {
   ++stats_.steps;
 }
 
+void FluidField::set_theta(double theta) {
+  if (!(theta >= 0.5 && theta <= 1))
+    throw std::invalid_argument("fluid: theta must be in [0.5, 1]");
+  settings_.theta = theta;
+}
+
 NewtonResult FluidField::step_once(double dt, double theta, const std::string& label) {
   save_old_state();
   place_configuration(theta);

@@ -159,6 +159,8 @@ class FluidField {
   const FluidStats& stats() const { return stats_; }
   const Mesh& mesh() const { return mesh_; }
   const FluidSettings& settings() const { return settings_; }
+  // One-step-theta's theta from the next step on, in [0.5, 1] (std::invalid_argument otherwise).
+  void set_theta(double theta);
   int n_dofs() const { return 4 * mesh_.n_nodes(); }
 
   // Verification access: set up the physics of a step (inv_dt = 0: steady) without solving; the

@@ -57,7 +57,7 @@ FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
   MapView m(
       fields.checker(), *node, fields.key("fluid"),
       {"enabled", "blocks", "density", "viscosity", "mode", "supg", "grad_div", "transient_tau",
-       "pseudo_2d", "viscous_form", "preconditioner", "boundary_conditions"});
+       "pseudo_2d", "viscous_form", "preconditioner", "body_force", "boundary_conditions"});
   FluidSettings& s = section.settings;
   section.enabled = get_bool(m, "enabled", true);
   s.blocks = block_list(m, "blocks", names.blocks, "the blocks that hold fluid");
@@ -79,9 +79,21 @@ FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
                                {"simplec", FluidPreconditioner::SimpleC},
                                {"monolithic_amg", FluidPreconditioner::MonolithicAmg}},
                               std::optional<FluidPreconditioner>(s.preconditioner));
+  section.body_force = get_expression_vector(
+      m, "body_force", "a list of 3 expressions in x, y, z, t [force per volume]");
   section.boundary_conditions =
       read_boundary_conditions(m, "fluid", names.face_sets, read_boundary_condition);
   return section;
+}
+
+FluidVectorFunction fluid_body_force(const FluidSection& section) {
+  std::array<FluidFunction, 3> f;
+  for (int d = 0; d < 3; ++d) f[d] = space_time_function(section.body_force->at(d));
+  // The field takes force per unit mass (kernels/fluid/pointwise.hpp).
+  const double per_mass = 1 / section.settings.density;
+  return [f, per_mass](const Point& x, double t) {
+    return Point{per_mass * f[0](x, t), per_mass * f[1](x, t), per_mass * f[2](x, t)};
+  };
 }
 
 std::vector<FluidBoundaryCondition> fluid_boundary_conditions(const FluidSection& section) {

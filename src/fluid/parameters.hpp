@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,9 @@ struct FluidSection {
   FlowMode mode = FlowMode::Steady;
   FluidSettings settings;
   std::vector<FluidBcSpec> boundary_conditions;
+  // Body force per volume (3 expressions in x, y, z, t), e.g. a pulse that seeds vortex
+  // shedding; absent: none.
+  std::optional<std::array<std::string, 3>> body_force;
 };
 
 // Reads fields.fluid (absent: the field is off). Time and solver settings are the scene's
@@ -42,5 +46,7 @@ FluidSection read_fluid_section(const scene_input::MapView& fields,
                                 const scene_input::MeshNames& names);
 
 std::vector<FluidBoundaryCondition> fluid_boundary_conditions(const FluidSection& section);
+// The section's body force as the field takes it, per unit mass (section.body_force must be set).
+FluidVectorFunction fluid_body_force(const FluidSection& section);
 
 }  // namespace biofsi

@@ -61,12 +61,16 @@ std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& 
   }
   Mesh mesh;
   try {
-    mesh = make_scene_mesh(scene);
+    mesh = make_scene_mesh(scene, false);
   } catch (const MeshFileError& e) {
     c.fail(file, m.key("file"), std::string("cannot use the mesh (") + e.what() + ")", name,
            expected +
                " (.msh, or .geo meshed by gmsh) with hexahedra, or quadrilaterals and "
                "mesh.thickness");
+  }
+  if (m.get("keep_blocks")) {
+    scene.gmsh_keep_blocks = block_list(m, "keep_blocks", mesh.block_names, "the blocks kept");
+    mesh = submesh(mesh, scene.gmsh_keep_blocks);
   }
   for (const auto& b : mesh.block_names)
     if (!valid_block_name(b))
@@ -79,19 +83,50 @@ std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& 
 }
 
 void read_box_mesh(const Checker& c, const MapView& m, Scene& scene);
+std::set<std::string> read_box_face_sets(const Checker& c, const MapView& m, Scene& scene);
+void read_unions(const Checker& c, const MapView& m, Scene& scene,
+                 std::set<std::string>& face_sets);
 
 // Returns the names of the mesh's face sets.
 std::set<std::string> read_mesh(const Checker& c, const Node& node, Scene& scene) {
   MapView m(c, node, "mesh",
-            {"type", "x", "z", "nx", "nz", "blocks", "file", "thickness", "parameters"});
+            {"type", "x", "z", "nx", "nz", "blocks", "file", "thickness", "parameters",
+             "keep_blocks", "unions"});
   scene.mesh_type = get_choice(m, "type", {"box", "gmsh"}, std::nullopt);
   const std::vector<std::string> box_keys = {"x", "z", "nx", "nz", "blocks"},
-                                 gmsh_keys = {"file", "thickness", "parameters"};
+                                 gmsh_keys = {"file", "thickness", "parameters", "keep_blocks"};
   for (const auto& key : scene.mesh_type == "box" ? gmsh_keys : box_keys)
     if (auto n = m.get(key))
       c.fail(*n, m.key(key), "not a key of a " + scene.mesh_type + " mesh", key,
              "the keys " + join_list(scene.mesh_type == "box" ? box_keys : gmsh_keys));
-  if (scene.mesh_type == "gmsh") return read_gmsh_mesh(c, m, scene);
+  std::set<std::string> face_sets =
+      scene.mesh_type == "gmsh" ? read_gmsh_mesh(c, m, scene) : read_box_face_sets(c, m, scene);
+  read_unions(c, m, scene, face_sets);
+  return face_sets;
+}
+
+// mesh.unions: {name: [face set, ...]}, derived sets (e.g. a body made of two walls, whose force
+// then counts the nodes they share once).
+void read_unions(const Checker& c, const MapView& m, Scene& scene,
+                 std::set<std::string>& face_sets) {
+  auto unions = m.get("unions");
+  if (!unions) return;
+  const std::string expected = "a map {name: [face set, ...]} of unions of the mesh's face sets";
+  if (!unions->IsMap()) c.wrong_type(*unions, m.key("unions"), expected);
+  for (auto it = unions->begin(); it != unions->end(); ++it) {
+    const std::string name = it->first.as<std::string>();
+    const std::string key = child_key(m.key("unions"), name);
+    if (!valid_block_name(name) || face_sets.count(name))
+      c.fail(it->second, key, "not a new set name", name,
+             "a name of letters, digits and underscores that the mesh does not have");
+    scene.mesh_unions.emplace_back(name, face_set_list(c, it->second, key, face_sets));
+  }
+  for (const auto& u : scene.mesh_unions) face_sets.insert(u.first);
+}
+
+// The face-set names of a box mesh.
+std::set<std::string> read_box_face_sets(const Checker& c, const MapView& m, Scene& scene) {
+  const Node& node = m.node();
   read_box_mesh(c, m, scene);
   for (const auto& b : scene.box.blocks) scene.block_names.push_back(b.name);
   // Face-set names depend only on the block names, not on the resolution: a one-element-thick
@@ -246,12 +281,11 @@ void read_fields(const Checker& c, const Node& node, const MeshNames& names, Sce
   scene.structure = read_structure_section(f, names, scene.materials, scene.fluid.settings.blocks);
   if (scene.structure.enabled) {
     const Node node = *f.get("structure");
-    if (!scene.fluid.enabled)
-      c.fail(node, f.key("structure"), "a structure without a fluid field", std::nullopt,
-             "a fields.fluid section as well: scenes load the structure by the flow (FSI)");
-    if (scene.fluid.mode == FlowMode::Steady && !scene.structure.settings.quasi_static) {
-      const MapView m(c, node, f.key("structure"),
-                      {"enabled", "blocks", "mode", "plane_strain", "boundary_conditions"});
+    if (scene.fluid.enabled && scene.fluid.mode == FlowMode::Steady &&
+        !scene.structure.settings.quasi_static) {
+      const MapView m(
+          c, node, f.key("structure"),
+          {"enabled", "blocks", "mode", "plane_strain", "body_force", "boundary_conditions"});
       c.fail(m.get("mode").value_or(node), m.key("mode"), "a dynamic structure in a steady flow",
              "dynamic",
              "quasi_static (the steady coupled problem), or fields.fluid.mode: transient");
@@ -263,10 +297,13 @@ void read_fields(const Checker& c, const Node& node, const MeshNames& names, Sce
       scene.fluid.enabled);
 }
 
+bool valid_theta(double v) { return v >= 0.5 && v <= 1; }
+
+// time.stages, after time.theta (each stage's default).
 std::vector<TimeSpec::Stage> read_stages(const Checker& c, const Node& node, const MapView& time,
                                          const Scene& scene) {
   const std::string key = time.key("stages");
-  const std::string expected = "a list of stages {dt, steps}";
+  const std::string expected = "a list of stages {dt, steps, theta (optional)}";
   for (const char* other : {"dt", "steps"})
     if (auto n = time.get(other); n && !n->IsNull())
       c.fail(*n, time.key(other), "dt and steps beside stages", render(*n),
@@ -277,11 +314,13 @@ std::vector<TimeSpec::Stage> read_stages(const Checker& c, const Node& node, con
            "one dt for the inner loop (time.dt and time.steps): stages are for flow runs");
   std::vector<TimeSpec::Stage> stages;
   for (size_t i = 0; i < node.size(); ++i) {
-    MapView s(c, node[i], index_key(key, i), {"dt", "steps"}, "a map {dt, steps}");
+    MapView s(c, node[i], index_key(key, i), {"dt", "steps", "theta"},
+              "a map {dt, steps, theta (optional)}");
     stages.push_back(
         {get_number(
              s, "dt", [](double v) { return v > 0; }, "a finite number > 0", std::nullopt),
-         get_int(s, "steps", 1, std::nullopt)});
+         get_int(s, "steps", 1, std::nullopt),
+         get_number(s, "theta", valid_theta, "a number in [0.5, 1]", scene.time.theta)});
   }
   return stages;
 }
@@ -291,6 +330,7 @@ void read_time(const Checker& c, const Node& node, Scene& scene) {
   TimeSpec& t = scene.time;
   const bool transient = get_choice(m, "mode", {"transient", "steady"}, "transient") == "transient";
   t.mode = transient ? TimeMode::Transient : TimeMode::Steady;
+  t.theta = get_number(m, "theta", valid_theta, "a number in [0.5, 1]", t.theta);
   if (auto stages = m.get("stages")) {
     t.stages = read_stages(c, *stages, m, scene);
     t.dt = t.stages.front().dt;
@@ -301,10 +341,8 @@ void read_time(const Checker& c, const Node& node, Scene& scene) {
         m, "dt", [](double v) { return v > 0; }, "a finite number > 0 [ms]",
         transient ? std::nullopt : std::optional<double>(t.dt));
     t.steps = get_int(m, "steps", 1, transient ? std::nullopt : std::optional<int>(t.steps));
-    t.stages = {{t.dt, t.steps}};
+    t.stages = {{t.dt, t.steps, t.theta}};
   }
-  t.theta = get_number(
-      m, "theta", [](double v) { return v >= 0.5 && v <= 1; }, "a number in [0.5, 1]", t.theta);
   t.steady_tolerance = get_number(
       m, "steady_tolerance", [](double v) { return v >= 0; }, "a number >= 0", t.steady_tolerance);
 }
@@ -446,6 +484,12 @@ Scene read_scene(const Node& root, const Checker& c) {
       read_mesh_motion_section(c, m.get("mesh_motion").value_or(Node()), names);
   scene.growth =
       read_growth_section(c, m.get("growth").value_or(Node()), names, stacked_blocks, mesh_motion);
+  if (scene.structure.enabled && !scene.fluid.enabled &&
+      (scene.scalar.enabled || scene.growth.enabled))
+    c.fail((*m.get("fields"))["structure"], "fields.structure",
+           "a structure without a fluid field beside the scalar or growth", std::nullopt,
+           "a fields.fluid section as well (the flow loads the biofilm), or the structure alone "
+           "(fields.scalar.enabled: false, no growth section)");
   scene.fsi = read_fsi_section(
       c, m.get("fsi").value_or(Node()), names, scene.structure.enabled && scene.fluid.enabled,
       scene.fluid, scene.growth.enabled ? scene.growth.settings.interface_set : "", mesh_motion);
@@ -592,11 +636,17 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   return parse_scene(text.str(), path, overrides);
 }
 
-Mesh make_scene_mesh(const Scene& scene) {
-  if (scene.mesh_type != "gmsh") return make_box_mesh(scene.box);
-  if (std::filesystem::path(scene.gmsh_file).extension() == ".geo")
-    return mesh_geo_with_gmsh(scene.gmsh_file, scene.gmsh_parameters, scene.gmsh_thickness);
-  return read_gmsh(scene.gmsh_file, scene.gmsh_thickness);
+Mesh make_scene_mesh(const Scene& scene, bool keep_blocks) {
+  Mesh mesh;
+  if (scene.mesh_type != "gmsh")
+    mesh = make_box_mesh(scene.box);
+  else if (std::filesystem::path(scene.gmsh_file).extension() == ".geo")
+    mesh = mesh_geo_with_gmsh(scene.gmsh_file, scene.gmsh_parameters, scene.gmsh_thickness);
+  else
+    mesh = read_gmsh(scene.gmsh_file, scene.gmsh_thickness);
+  if (keep_blocks && !scene.gmsh_keep_blocks.empty()) mesh = submesh(mesh, scene.gmsh_keep_blocks);
+  for (const auto& [name, sets] : scene.mesh_unions) add_union_set(mesh, sets, name);
+  return mesh;
 }
 
 }  // namespace biofsi

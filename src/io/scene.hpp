@@ -31,6 +31,7 @@ struct TimeSpec {
   struct Stage {
     double dt;
     int steps;
+    double theta;  // the fluid's and the structure's in this stage; time.theta unless given
   };
   std::vector<Stage> stages;
   double theta = 0.66;          // in [0.5, 1]
@@ -77,6 +78,10 @@ struct Scene {
   std::string gmsh_file;  // .msh (read) or .geo (meshed by gmsh with gmsh_parameters)
   double gmsh_thickness = 0;
   std::vector<std::pair<std::string, double>> gmsh_parameters;
+  // The blocks kept from the file (empty: all): a sub-mesh of them, its sets restricted to it.
+  std::vector<std::string> gmsh_keep_blocks;
+  // mesh.unions: face sets made as unions of the mesh's own (add_union_set), in scene order.
+  std::vector<std::pair<std::string, std::vector<std::string>>> mesh_unions;
   std::vector<std::string> block_names;  // of either kind of mesh, in block order
   Materials materials;
   // Each field's section, with its settings complete: the time and solver sections' values (theta,
@@ -91,8 +96,9 @@ struct Scene {
   GrowthSection growth;  // settings.mesh_motion: the mesh_motion section
 };
 
-// The scene's mesh (generated, or read from its Gmsh file).
-Mesh make_scene_mesh(const Scene& scene);
+// The scene's mesh (generated, or read from its Gmsh file and cut to mesh.keep_blocks unless
+// `keep_blocks` is false).
+Mesh make_scene_mesh(const Scene& scene, bool keep_blocks = true);
 
 // Reads and validates a scene. `overrides` are "dotted.key=value" strings (e.g. "time.dt=0.5",
 // "mesh.blocks.1.ny=40") applied to the YAML tree before validation. Throws SceneError before any

@@ -221,6 +221,18 @@ std::string expression(const Checker& c, const Node& n, const std::string& key) 
   return text;
 }
 
+std::optional<std::array<std::string, 3>> get_expression_vector(const MapView& m,
+                                                                const std::string& name,
+                                                                const std::string& expected) {
+  auto n = m.get(name);
+  if (!n) return std::nullopt;
+  if (!n->IsSequence() || n->size() != 3) m.checker().wrong_type(*n, m.key(name), expected);
+  std::array<std::string, 3> out;
+  for (size_t d = 0; d < 3; ++d)
+    out[d] = expression(m.checker(), (*n)[d], index_key(m.key(name), d));
+  return out;
+}
+
 std::string get_expression(const MapView& m, const std::string& name,
                            std::optional<std::string> fallback) {
   auto n = m.get(name);

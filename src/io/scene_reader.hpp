@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <map>
 #include <optional>
@@ -142,6 +143,10 @@ Enum get_enum(const MapView& m, const std::string& name,
 std::string expression(const Checker& c, const Node& n, const std::string& key);
 std::string get_expression(const MapView& m, const std::string& name,
                            std::optional<std::string> fallback);
+// An optional list of 3 expressions (a vector field, e.g. a body force); absent: nullopt.
+std::optional<std::array<std::string, 3>> get_expression_vector(const MapView& m,
+                                                                const std::string& name,
+                                                                const std::string& expected);
 // [a, b] with b > a.
 std::pair<double, double> get_interval(const MapView& m, const std::string& name);
 std::string boundary_name(const Checker& c, const Node& n, const std::string& key,

@@ -229,6 +229,19 @@ FaceView to_device(const std::vector<BoundaryFace>& faces) {
   return d;
 }
 
+void add_union_set(Mesh& mesh, const std::vector<std::string>& sets, const std::string& name) {
+  std::vector<int> nodes;
+  std::vector<BoundaryFace> faces;
+  for (const auto& s : sets) {
+    nodes.insert(nodes.end(), mesh.node_sets.at(s).begin(), mesh.node_sets.at(s).end());
+    faces.insert(faces.end(), mesh.face_sets.at(s).begin(), mesh.face_sets.at(s).end());
+  }
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  mesh.node_sets[name] = nodes;
+  mesh.face_sets[name] = faces;
+}
+
 std::vector<double> scaled_jacobians(const Mesh& mesh) {
   // Corner c of a VTK hex and its three edge neighbours, ordered so that a right-handed cube has
   // positive determinant at every corner.

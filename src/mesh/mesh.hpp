@@ -109,6 +109,10 @@ DeviceMesh to_device(const Mesh& mesh);
 FaceView to_device(const std::vector<BoundaryFace>& faces);
 void copy_coordinates_to_device(const Mesh& mesh, CoordView x);
 
+// The sets as one set `name`: the union of their node sets (shared nodes once) and face sets (a
+// force on it counts a node shared by two of them once).
+void add_union_set(Mesh& mesh, const std::vector<std::string>& sets, const std::string& name);
+
 // Scaled Jacobian of each element: min over the 8 corners of det[e1 e2 e3] / (|e1||e2||e3|) of
 // the corner's edge vectors; 1 for a cube, <= 0 for an inverted or degenerate element.
 std::vector<double> scaled_jacobians(const Mesh& mesh);

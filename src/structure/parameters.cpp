@@ -61,7 +61,7 @@ StructureSection read_structure_section(const MapView& fields, const MeshNames& 
   if (!node) return section;
   const Checker& c = fields.checker();
   MapView m(c, *node, fields.key("structure"),
-            {"enabled", "blocks", "mode", "plane_strain", "boundary_conditions"});
+            {"enabled", "blocks", "mode", "plane_strain", "body_force", "boundary_conditions"});
   section.enabled = get_bool(m, "enabled", true);
   s.blocks = block_list(m, "blocks", names.blocks, "the elastic blocks");
   for (size_t i = 0; i < s.blocks.size(); ++i) {
@@ -78,9 +78,17 @@ StructureSection read_structure_section(const MapView& fields, const MeshNames& 
   s.quasi_static = get_enum(m, "mode", {{"dynamic", false}, {"quasi_static", true}},
                             std::optional<bool>(s.quasi_static));
   s.plane_strain = get_bool(m, "plane_strain", s.plane_strain);
+  section.body_force = get_expression_vector(
+      m, "body_force", "a list of 3 expressions in x, y, z, t [force per volume]");
   section.boundary_conditions =
       read_boundary_conditions(m, "structure", names.face_sets, read_boundary_condition);
   return section;
+}
+
+std::array<SpaceTimeFunction, 3> structure_body_force(const StructureSection& section) {
+  std::array<SpaceTimeFunction, 3> out;
+  for (int d = 0; d < 3; ++d) out[d] = space_time_function(section.body_force->at(d));
+  return out;
 }
 
 std::vector<StructureDirichlet> structure_boundary_conditions(const StructureSection& section) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,11 +24,15 @@ struct StructureBcSpec {
 
 // The biofilm as an elastic body (paper eq. 1) on settings.blocks, loaded by the flow (FSI with
 // the fluid field); other blocks' nodes are not part of it. settings.quasi_static is the scene's
-// mode: dynamic (one-step-theta with time.theta) or quasi_static.
+// mode: dynamic (one-step-theta with time.theta) or quasi_static. Without a fluid field (and
+// without the scalar and growth) the structure runs alone under its body force and boundary data.
 struct StructureSection {
   bool enabled = false;  // true when the scene has a fields.structure section
   StructureSettings settings;
   std::vector<StructureBcSpec> boundary_conditions;
+  // Body force per reference volume (3 expressions in x, y, z, t), e.g. gravity rho g; absent:
+  // none.
+  std::optional<std::array<std::string, 3>> body_force;
 };
 
 // Reads fields.structure (absent: the field is off) after fields.fluid, whose blocks the
@@ -38,5 +43,7 @@ StructureSection read_structure_section(const scene_input::MapView& fields,
                                         const std::vector<std::string>& fluid_blocks);
 
 std::vector<StructureDirichlet> structure_boundary_conditions(const StructureSection& section);
+// The section's body force as the field takes it (section.body_force must be set).
+std::array<SpaceTimeFunction, 3> structure_body_force(const StructureSection& section);
 
 }  // namespace biofsi

@@ -555,6 +555,12 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
   return result;
 }
 
+void StructureField::set_theta(double theta) {
+  if (!(theta >= 0.5 && theta <= 1))
+    throw std::invalid_argument("structure: theta must lie in [0.5, 1]");
+  settings_.theta = theta;
+}
+
 NewtonResult StructureField::step(double dt, const std::string& label) {
   if (!(dt > 0) || !std::isfinite(dt))
     throw SolveError("structure", label, "time step must be positive and finite");

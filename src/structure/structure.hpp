@@ -120,6 +120,8 @@ class StructureField {
   const StructureStats& stats() const { return stats_; }
   const Mesh& mesh() const { return mesh_; }
   const StructureSettings& settings() const { return settings_; }
+  // One-step-theta's theta from the next step on, in [0.5, 1] (std::invalid_argument otherwise).
+  void set_theta(double theta);
   // The blocks' elements and nodes (sorted).
   const std::vector<int>& elements() const { return elements_; }
   const std::vector<int>& active_nodes() const { return active_nodes_; }

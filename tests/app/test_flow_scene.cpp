@@ -11,42 +11,12 @@
 #include <regex>
 #include <sstream>
 
-#include "app/run.hpp"
 #include "io/output.hpp"
+#include "scene_run.hpp"
 
 using namespace biofsi;
+using namespace biofsi::test;
 namespace fs = std::filesystem;
-
-namespace {
-
-struct RunOutput {
-  int rc;
-  std::string out, err;
-};
-
-RunOutput run_quietly(const RunOptions& o) {
-  std::ostringstream text, errors;
-  auto* old_out = std::cout.rdbuf(text.rdbuf());
-  auto* old_err = std::cerr.rdbuf(errors.rdbuf());
-  const int rc = run_scene(o);
-  std::cout.rdbuf(old_out);
-  std::cerr.rdbuf(old_err);
-  return {rc, text.str(), errors.str()};
-}
-
-std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
-  std::ifstream in(path);
-  std::vector<std::vector<std::string>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> row;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) row.push_back(cell);
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-}  // namespace
 
 TEST(FlowScene, DfgBenchmarkSceneGivesTheDragOnTheCoarsestMesh) {
   const fs::path out = fs::temp_directory_path() / "biofsi_app_dfg";
@@ -125,4 +95,45 @@ TEST(FlowScene, StagedRunWritesTheSeriesOfForcesAndProbes) {
   EXPECT_NE(r.err.find("output.probes[0].point: no mesh node at (1.0001, 0.1234)"),
             std::string::npos)
       << r.err;
+}
+
+// The structure alone (cases/turek_hron/csm3.yaml, 2 steps): the flag under gravity writes its
+// tip's series. Over the first step the tip falls as a free body would (-g dt^2 / 2 with the
+// trapezoidal rule from rest), the elastic response being second order in dt smaller; the
+// fluid's block is not part of the mesh (mesh.keep_blocks).
+TEST(FlowScene, StructureAloneSwingsUnderGravity) {
+  const fs::path out = fs::temp_directory_path() / "biofsi_app_csm3";
+  const RunOutput r = run_quietly(
+      case_run("turek_hron/csm3.yaml", out, {"mesh.parameters.refine=1", "time.steps=2"}));
+  ASSERT_EQ(r.rc, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("alone under its body force"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("structure: 2 steps"), std::string::npos) << r.out;
+  auto s = read_series(out / "series.csv");
+  ASSERT_EQ(s["time"].size(), 3u);
+  const double g = 2, dt = 0.005;
+  EXPECT_NEAR(s["A_displacement_y"][1], -0.5 * g * dt * dt, 1e-3 * 0.5 * g * dt * dt);
+  EXPECT_LT(s["A_displacement_y"][2], s["A_displacement_y"][1]);
+  EXPECT_EQ(s["A_displacement_z"][2], 0.0);  // plane strain
+}
+
+// A time stage's theta reaches the fields: one step with theta 1 in a first stage is the step of
+// a run whose time.theta is 1, and differs from Crank-Nicolson's.
+TEST(FlowScene, StageThetaReachesTheFlow) {
+  auto drag_after_one_step = [](const std::vector<std::string>& time) {
+    const fs::path out = fs::temp_directory_path() / "biofsi_app_theta";
+    std::vector<std::string> o = {"mesh.parameters.refine=1", "fields.fluid.mode=transient",
+                                  "time.dt=null", "time.steps=null"};
+    o.insert(o.end(), time.begin(), time.end());
+    const RunOutput r = run_quietly(case_run("dfg/dfg_2d1.yaml", out, o));
+    EXPECT_EQ(r.rc, 0) << r.err << r.out;
+    return read_series(out / "series.csv")["force_cylinder_x"].at(1);
+  };
+  const double staged =
+      drag_after_one_step({"time.stages=[{dt: 0.5, steps: 1, theta: 1}, {dt: 0.5, steps: 1}]"});
+  const double implicit =
+      drag_after_one_step({"time.theta=1", "time.stages=[{dt: 0.5, steps: 1}]"});
+  const double midpoint =
+      drag_after_one_step({"time.theta=0.5", "time.stages=[{dt: 0.5, steps: 1}]"});
+  EXPECT_EQ(staged, implicit);
+  EXPECT_GT(std::abs(staged - midpoint), 1e-6 * std::abs(midpoint));
 }

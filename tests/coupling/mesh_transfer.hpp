@@ -1,7 +1,7 @@
-// Nodal fields of one hex8 mesh interpolated onto the nodes of another mesh of the same domain,
-// so that a mesh study of an unsteady benchmark can start from a periodic state reached on a
-// coarser mesh instead of from rest (test_fsi_unsteady.cpp, BIOFSI_FSI_RESTART_MESH). Test
-// support only: it depends on src/mesh and kernels/core, and only the tests include it.
+// Nodal fields of one hex8 mesh interpolated onto the nodes of another mesh of the same domain
+// (a mesh study of an unsteady benchmark from a periodic state reached on a coarser mesh instead
+// of from rest needs it). Test support only: it depends on src/mesh and kernels/core, and only the
+// tests include it.
 #pragma once
 
 #include <algorithm>

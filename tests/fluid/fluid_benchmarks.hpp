@@ -35,21 +35,6 @@ inline std::string mesh_file(const std::string& name) {
   return std::string(BIOFSI_MESH_DIR) + "/" + name + ".msh";
 }
 
-// The sets as one set `name`: the union of their node sets (shared nodes once) and face sets.
-inline void add_union_set(Mesh& mesh, const std::vector<std::string>& sets,
-                          const std::string& name) {
-  std::vector<int> nodes;
-  std::vector<BoundaryFace> faces;
-  for (const auto& s : sets) {
-    nodes.insert(nodes.end(), mesh.node_sets.at(s).begin(), mesh.node_sets.at(s).end());
-    faces.insert(faces.end(), mesh.face_sets.at(s).begin(), mesh.face_sets.at(s).end());
-  }
-  std::sort(nodes.begin(), nodes.end());
-  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-  mesh.node_sets[name] = nodes;
-  mesh.face_sets[name] = faces;
-}
-
 // Channel flow past the body with the parabolic inflow of mean velocity u_mean; the benchmarks'
 // do-nothing outflow is the one of the grad-u form (symmetric_viscous = false).
 inline BenchmarkResult run_channel_benchmark(Mesh mesh, const std::vector<std::string>& body_sets,

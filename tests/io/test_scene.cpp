@@ -475,6 +475,25 @@ TEST_F(SceneFile, ReadsAGmshMeshRelativeToTheSceneFile) {
   EXPECT_TRUE(contains(missing, "got 'nope.msh'")) << missing;
   const std::string mixed = error(gmsh_mesh + "  nx: 3\n" + minimal_tail);
   EXPECT_TRUE(contains(mixed, "mesh.nx: not a key of a gmsh mesh")) << mixed;
+  // keep_blocks: only the blocks named (here the file's one block), and none it does not have.
+  const Scene kept =
+      load_scene(write("kept.yaml", gmsh_mesh + "  keep_blocks: [fluid]\n" + with_flux));
+  EXPECT_EQ(kept.gmsh_keep_blocks, std::vector<std::string>{"fluid"});
+  EXPECT_EQ(make_scene_mesh(kept).n_elements(), mesh.n_elements());
+  const std::string unknown_block = error(gmsh_mesh + "  keep_blocks: [solid]\n" + minimal_tail);
+  EXPECT_TRUE(contains(unknown_block, "mesh.keep_blocks[0]: unknown block; got 'solid'"))
+      << unknown_block;
+  // On a two-block mesh: the flag alone of Turek-Hron, its sets restricted to it.
+  Scene flag;
+  flag.mesh_type = "gmsh";
+  flag.gmsh_file = std::string(BIOFSI_MESH_DIR) + "/turek_hron_r1.msh";
+  flag.gmsh_thickness = 0.01;
+  flag.gmsh_keep_blocks = {"solid"};
+  const Mesh solid = make_scene_mesh(flag);
+  EXPECT_EQ(solid.block_names, std::vector<std::string>{"solid"});
+  EXPECT_TRUE(solid.face_sets.count("solid_clamp"));
+  EXPECT_FALSE(solid.face_sets.count("inflow"));
+  EXPECT_LT(solid.n_elements(), make_scene_mesh(flag, false).n_elements());
 }
 
 // The fluid section: every key read, the scalar then convected by the fluid (no velocity key).
@@ -727,6 +746,75 @@ TEST(Scene, ReadsTimeStagesOfAFlowRun) {
   EXPECT_TRUE(contains(
       error_of(kFull, {"time.dt=null", "time.steps=null", "time.stages=[{dt: 0.5, steps: 0}]"}),
       "time.stages[0].steps: out of range"));
+}
+
+// A stage's theta defaults to time.theta and may differ per stage (a damped start-up).
+TEST(Scene, ReadsAThetaPerTimeStage) {
+  const Scene s =
+      parse_scene(kFull, kFile,
+                  {"time.dt=null", "time.steps=null",
+                   "time.stages=[{dt: 0.5, steps: 2, theta: 1}, {dt: 0.25, steps: 3}]"});
+  ASSERT_EQ(s.time.stages.size(), 2u);
+  EXPECT_EQ(s.time.stages[0].theta, 1.0);
+  EXPECT_EQ(s.time.stages[1].theta, 0.75);  // kFull's time.theta
+  EXPECT_EQ(parse_scene(kFull, kFile).time.stages[0].theta, 0.75);
+  EXPECT_TRUE(contains(error_of(kFull, {"time.dt=null", "time.steps=null",
+                                        "time.stages=[{dt: 0.5, steps: 2, theta: 0.4}]"}),
+                       "time.stages[0].theta: out of range"))
+      << error_of(kFull, {"time.dt=null", "time.steps=null",
+                          "time.stages=[{dt: 0.5, steps: 2, theta: 0.4}]"});
+}
+
+// Body forces per volume: the structure's as given, the fluid's per unit mass (its density).
+TEST(Scene, ReadsBodyForces) {
+  const std::string with_forces =
+      replaced(replaced(with_structure(kFull), "    plane_strain: true\n",
+                        "    plane_strain: true\n    body_force: [0, \"-2*t\", 0]\n"),
+               "    preconditioner: simplec\n",
+               "    preconditioner: simplec\n    body_force: [\"3e-3*x\", 0, 0]\n");
+  const Scene s = parse_scene(with_forces, kFile);
+  ASSERT_TRUE(s.structure.body_force.has_value());
+  EXPECT_EQ((*s.structure.body_force)[1], "-2*t");
+  EXPECT_EQ(structure_body_force(s.structure)[1](Point{0, 0, 0}, 3.0), -6.0);
+  ASSERT_TRUE(s.fluid.body_force.has_value());
+  // 3e-3 x per volume over density 1e-3: 3 x per unit mass.
+  EXPECT_NEAR(fluid_body_force(s.fluid)(Point{2, 0, 0}, 0.0)[0], 6.0, 1e-12);
+  EXPECT_FALSE(parse_scene(with_structure(kFull), kFile).structure.body_force.has_value());
+  const std::string two = replaced(with_forces, "[0, \"-2*t\", 0]", "[0, 1]");
+  EXPECT_TRUE(contains(error_of(two), "fields.structure.body_force: wrong type")) << error_of(two);
+}
+
+// A structure alone: no fluid, no scalar, no growth (a structural run); beside the scalar it needs
+// the flow that loads it.
+TEST(Scene, AcceptsAStructureAloneOnlyWithoutScalarAndGrowth) {
+  const std::string alone = replaced(
+      replaced(replaced(kFull, "fields:\n", "fields:\n" + kStructure),
+               "    monod_half_saturation: 0.1\n", "    monod_half_saturation: 0.1\n" + kElastic),
+      "    velocity: [\"0.1*y\", \"0\", 0]\n", "");
+  const Scene s = parse_scene(alone, kFile);
+  EXPECT_TRUE(s.structure.enabled);
+  EXPECT_FALSE(s.fluid.enabled);
+  const std::string m = error_of(alone, {"fields.scalar.enabled=true"});
+  EXPECT_TRUE(contains(m, "fields.structure: a structure without a fluid field beside the scalar"))
+      << m;
+}
+
+// mesh.unions: new face sets from the mesh's own, usable wherever a face set is.
+TEST(Scene, ReadsUnionsOfFaceSets) {
+  const Scene s = parse_scene(
+      kFull, kFile, {"mesh.unions={walls: [left, right]}", "output.flux_boundaries=[walls]"});
+  ASSERT_EQ(s.mesh_unions.size(), 1u);
+  EXPECT_EQ(s.mesh_unions[0].first, "walls");
+  const Mesh mesh = make_scene_mesh(s);
+  ASSERT_TRUE(mesh.face_sets.count("walls"));
+  EXPECT_EQ(mesh.face_sets.at("walls").size(),
+            mesh.face_sets.at("left").size() + mesh.face_sets.at("right").size());
+  EXPECT_EQ(mesh.node_sets.at("walls").size(),
+            mesh.node_sets.at("left").size() + mesh.node_sets.at("right").size());
+  EXPECT_TRUE(contains(error_of(kFull, {"mesh.unions={left: [right]}"}),
+                       "mesh.unions.left: not a new set name"));
+  EXPECT_TRUE(contains(error_of(kFull, {"mesh.unions={walls: [left, nowhere]}"}),
+                       "mesh.unions.walls[1]: unknown boundary"));
 }
 
 TEST(Scene, ReadsProbesAndChecksTheirField) {
