@@ -84,9 +84,14 @@ ScalarSection read_scalar_section(const MapView& fields, const MeshNames& names,
   if (!bcs || bcs->IsNull()) return section;
   const std::string key = s.key("boundary_conditions");
   if (!bcs->IsSequence()) c.wrong_type(*bcs, key, "a list of boundary conditions");
-  for (size_t i = 0; i < bcs->size(); ++i)
-    section.boundary_conditions.push_back(
-        read_boundary_condition(c, (*bcs)[i], index_key(key, i), names.face_sets));
+  OneConditionPerBoundary once("scalar");
+  for (size_t i = 0; i < bcs->size(); ++i) {
+    const std::string ikey = index_key(key, i);
+    const Node item = (*bcs)[i];
+    section.boundary_conditions.push_back(read_boundary_condition(c, item, ikey, names.face_sets));
+    once.claim(c, item["boundary"], child_key(ikey, "boundary"),
+               section.boundary_conditions.back().boundary);
+  }
   return section;
 }
 
