@@ -97,11 +97,17 @@ ScalarSection read_scalar_section(const MapView& fields, const MeshNames& names,
 
 std::vector<ScalarBoundaryCondition> scalar_boundary_conditions(const ScalarSection& section) {
   std::vector<ScalarBoundaryCondition> out;
-  for (const auto& bc : section.boundary_conditions) {
+  for (size_t i = 0; i < section.boundary_conditions.size(); ++i) {
+    const ScalarBcSpec& bc = section.boundary_conditions[i];
+    const char* name = bc.kind == ScalarBcKind::Dirichlet ? "value"
+                       : bc.kind == ScalarBcKind::Flux    ? "flux"
+                                                          : "ambient";
     ScalarBoundaryCondition c;
     c.set = bc.boundary;
     c.kind = bc.kind;
-    c.value = space_time_function(bc.value);
+    c.value = space_time_function(
+        bc.value, child_key(index_key("fields.scalar.boundary_conditions", i), name) + " (line " +
+                      std::to_string(bc.line) + ")");
     c.coefficient = bc.coefficient;
     out.push_back(std::move(c));
   }
