@@ -1,5 +1,5 @@
 // biofsi command line: `biofsi --version`, `biofsi run SCENE.yaml [--out DIR] [--set key=value]...
-// [--overwrite]`.
+// [--overwrite] [--restart CHECKPOINT]`. Exit codes: biofsi::ExitCode (app/run.hpp).
 #include <mpi.h>
 
 #include <Kokkos_Core.hpp>
@@ -27,7 +27,7 @@ int parse(int argc, char** argv, bool& version, biofsi::RunOptions& options) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty()) {
     std::cerr << usage;
-    return 2;
+    return biofsi::kExitBadCommandLine;
   }
   if (args[0] == "--version" || args[0] == "version") {
     version = true;
@@ -39,7 +39,7 @@ int parse(int argc, char** argv, bool& version, biofsi::RunOptions& options) {
   }
   if (args[0] != "run") {
     std::cerr << "biofsi: unknown command '" << args[0] << "'\n" << usage;
-    return 2;
+    return biofsi::kExitBadCommandLine;
   }
   for (size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -52,15 +52,15 @@ int parse(int argc, char** argv, bool& version, biofsi::RunOptions& options) {
     };
     if (a == "--out") {
       const std::string* v = value("--out");
-      if (!v) return 2;
+      if (!v) return biofsi::kExitBadCommandLine;
       options.out_dir = *v;
     } else if (a == "--set") {
       const std::string* v = value("--set");
-      if (!v) return 2;
+      if (!v) return biofsi::kExitBadCommandLine;
       options.overrides.push_back(*v);
     } else if (a == "--restart") {
       const std::string* v = value("--restart");
-      if (!v) return 2;
+      if (!v) return biofsi::kExitBadCommandLine;
       options.restart = *v;
     } else if (a == "--overwrite") {
       options.overwrite = true;
@@ -68,18 +68,18 @@ int parse(int argc, char** argv, bool& version, biofsi::RunOptions& options) {
       continue;  // Kokkos' own options (--kokkos-num-threads=N, ...), read by Kokkos::initialize
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << "biofsi: unknown option '" << a << "'\n" << usage;
-      return 2;
+      return biofsi::kExitBadCommandLine;
     } else if (options.scene_path.empty()) {
       options.scene_path = a;
     } else {
       std::cerr << "biofsi: more than one scene given ('" << options.scene_path << "', '" << a
                 << "')\n";
-      return 2;
+      return biofsi::kExitBadCommandLine;
     }
   }
   if (options.scene_path.empty()) {
     std::cerr << "biofsi: run needs a scene file\n" << usage;
-    return 2;
+    return biofsi::kExitBadCommandLine;
   }
   return 0;
 }
@@ -94,11 +94,13 @@ int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   int rc = 0;
   Kokkos::initialize(argc, argv);
-  {
+  try {
     if (version)
       std::cout << biofsi::version_report();
     else
       rc = biofsi::run_scene(options);
+  } catch (...) {
+    rc = biofsi::report_error(options.scene_path);
   }
   Kokkos::finalize();
   MPI_Finalize();

@@ -103,16 +103,14 @@ std::string format_range(const std::vector<QualityRange>& q, const Mesh& mesh) {
 void write_flux_tables(const Simulation& sim, const std::filesystem::path& directory) {
   for (const auto& set : sim.scene.output.flux_boundaries) {
     const BoundaryFlux f = sim.scalar.boundary_flux(set, flux_block(sim.mesh, set));
-    const auto path = directory / ("flux_" + set + ".csv");
-    std::ofstream out(path.string() + ".tmp");
+    std::ostringstream out;
     out << "x,y,z,nodal_flux,lumped_area,flux_density\n" << std::setprecision(12);
     for (size_t i = 0; i < f.nodes.size(); ++i) {
       const Point& p = sim.mesh.x[f.nodes[i]];
       out << p[0] << ',' << p[1] << ',' << p[2] << ',' << f.nodal_flux[i] << ',' << f.lumped_area[i]
           << ',' << f.density[i] << '\n';
     }
-    out.close();
-    std::filesystem::rename(path.string() + ".tmp", path);
+    write_text_file((directory / ("flux_" + set + ".csv")).string(), out.str());
   }
 }
 
@@ -202,23 +200,28 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
   return o.str();
 }
 
-Series::Series(const Simulation& sim, const std::filesystem::path& out) : sim_(sim) {
+Series::Series(const Simulation& sim) : sim_(sim) {
   const OutputSpec& o = sim.scene.output;
-  if (o.probes.empty() && o.force_boundaries.empty()) return;
   for (size_t i = 0; i < o.probes.size(); ++i) probes_.push_back(probe_nodes(o.probes[i], i));
-  file_.open(out / "series.csv");
-  file_ << "step,time";
+}
+
+void Series::open(const std::filesystem::path& out) {
+  const OutputSpec& o = sim_.scene.output;
+  if (o.probes.empty() && o.force_boundaries.empty()) return;
+  file_ = TextLog((out / "series.csv").string());
+  std::ostringstream header;
+  header << "step,time";
   for (const auto& set : o.force_boundaries)
-    for (const char* c : {"x", "y", "z"}) file_ << ",force_" << set << "_" << c;
+    for (const char* c : {"x", "y", "z"}) header << ",force_" << set << "_" << c;
   for (const auto& p : o.probes)
     if (p.quantity == ProbeSpec::Quantity::Pressure)
-      file_ << "," << p.name << "_pressure";
+      header << "," << p.name << "_pressure";
     else
       for (const char* c : {"x", "y", "z"})
-        file_ << "," << p.name
-              << (p.quantity == ProbeSpec::Quantity::Velocity ? "_velocity_" : "_displacement_")
-              << c;
-  file_ << "\n" << std::setprecision(12);
+        header << "," << p.name
+               << (p.quantity == ProbeSpec::Quantity::Velocity ? "_velocity_" : "_displacement_")
+               << c;
+  file_.append(header.str() + "\n");
 }
 
 std::vector<int> Series::probe_nodes(const ProbeSpec& p, size_t index) const {
@@ -243,10 +246,11 @@ std::vector<int> Series::probe_nodes(const ProbeSpec& p, size_t index) const {
 
 void Series::record(int step, double time) {
   if (!file_.is_open()) return;
-  file_ << step << "," << time;
+  std::ostringstream row;
+  row << std::setprecision(12) << step << "," << time;
   for (const auto& set : sim_.scene.output.force_boundaries) {
     const Point f = sim_.fluid->force(set);
-    file_ << "," << f[0] << "," << f[1] << "," << f[2];
+    row << "," << f[0] << "," << f[1] << "," << f[2];
   }
   std::vector<Point> displacement, velocity;
   std::vector<double> pressure;
@@ -267,11 +271,12 @@ void Series::record(int step, double time) {
       for (int d = 0; d < 3; ++d) mean[d] += v[n][d] / nodes.size();
     }
     if (quantity == ProbeSpec::Quantity::Pressure)
-      file_ << "," << mean[0];
+      row << "," << mean[0];
     else
-      file_ << "," << mean[0] << "," << mean[1] << "," << mean[2];
+      row << "," << mean[0] << "," << mean[1] << "," << mean[2];
   }
-  file_ << "\n" << std::flush;
+  row << "\n";
+  file_.append(row.str());
 }
 
 }  // namespace biofsi

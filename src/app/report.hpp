@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -54,19 +53,21 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
 void write_flux_tables(const Simulation& sim, const std::filesystem::path& out);
 
 // series.csv of a flow run: a row per step with the fluid's force on each force boundary and
-// each probe's value (the mean over its nodes), flushed row by row so that a run's history
-// survives it being stopped. Inactive without force boundaries and probes. A probe point that is
-// not a mesh node throws SceneError naming the key.
+// each probe's value (the mean over its nodes), written row by row so that a run's history
+// survives it being stopped. Inactive without force boundaries and probes. The constructor finds
+// the probes' nodes (a probe point that is not a mesh node throws SceneError naming the key);
+// open() creates the file. A failed write throws OutputError.
 class Series {
  public:
-  Series(const Simulation& sim, const std::filesystem::path& out);
+  explicit Series(const Simulation& sim);
+  void open(const std::filesystem::path& out);
   void record(int step, double time);
 
  private:
   std::vector<int> probe_nodes(const ProbeSpec& p, size_t index) const;
   const Simulation& sim_;
   std::vector<std::vector<int>> probes_;  // the nodes of each output probe
-  std::ofstream file_;
+  TextLog file_;
 };
 
 }  // namespace biofsi

@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "app/report.hpp"
@@ -19,6 +19,7 @@
 #include "growth/growth.hpp"
 #include "io/output.hpp"
 #include "io/scene.hpp"
+#include "mesh/gmsh.hpp"
 
 namespace biofsi {
 
@@ -38,17 +39,63 @@ struct InnerLoopResult {
   double change = 0;
 };
 
+// What --overwrite removes of an earlier run in the output directory: every file a run writes
+// there (the index and step files go with XdmfWriter), and temporary files a killed run left.
+bool written_by_a_run(const std::string& name) {
+  auto numbered = [&](const std::string& prefix, const std::string& suffix) {
+    return name.size() == prefix.size() + 6 + suffix.size() && name.rfind(prefix, 0) == 0 &&
+           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+           std::all_of(name.begin() + prefix.size(), name.end() - suffix.size(),
+                       [](char c) { return c >= '0' && c <= '9'; });
+  };
+  auto ends_with = [&](const std::string& suffix) {
+    return name.size() >= suffix.size() &&
+           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  return numbered("checkpoint_", ".h5") || name == "summary.txt" || name == "series.csv" ||
+         (name.rfind("flux_", 0) == 0 && ends_with(".csv")) || ends_with(".tmp");
+}
+
+// Before anything is written: an earlier run's results are replaced only with --overwrite, and
+// then none of its files stays beside the new ones (a stale checkpoint would be taken for this
+// run's). The restart file is never removed.
+void prepare_output(const std::filesystem::path& out, bool overwrite, const std::string& restart) {
+  namespace fs = std::filesystem;
+  const fs::path index = out / "scalar.xdmf";
+  std::error_code ec;
+  if (fs::exists(index, ec) && !overwrite)
+    throw SceneError(index.string() +
+                     ": the results of an earlier run are here; pass --overwrite to replace them "
+                     "or choose another --out directory");
+  if (!overwrite || !fs::is_directory(out, ec)) return;
+  for (const auto& e : fs::directory_iterator(out, ec)) {
+    if (!written_by_a_run(e.path().filename().string())) continue;
+    if (!restart.empty() && fs::equivalent(e.path(), restart, ec)) continue;
+    if (!fs::remove(e.path(), ec) && ec)
+      throw OutputError(e.path().string() + ": cannot remove it (--overwrite): " + ec.message());
+  }
+}
+
 class Driver {
  public:
-  Driver(const Scene& scene, const std::filesystem::path& out, bool overwrite)
-      : scene_(scene),
-        out_(out),
-        sim_(scene),
-        writer_(out.string(), "scalar", overwrite),
-        series_(sim_, out),
-        start_(Clock::now()) {
+  // Everything the run reads is read and checked here — scene, mesh, expressions, probes, the
+  // restart file — before the output directory is touched.
+  Driver(const Scene& scene, const RunOptions& options, const std::filesystem::path& out)
+      : scene_(scene), out_(out), sim_(scene), series_(sim_), start_(Clock::now()) {
     std::cout << "mesh: " << sim_.mesh.n_nodes() << " nodes, " << sim_.mesh.n_elements()
               << " hex8 elements, " << sim_.mesh.block_names.size() << " blocks\n";
+    if (sim_.reoriented_elements > 0)
+      std::cout << "mesh: re-oriented " << sim_.reoriented_elements
+                << " mirrored elements (left-handed at all 8 corners) of " << scene.gmsh_file
+                << "\n";
+    if (scene.growth.enabled) {
+      // Built on the mesh as the scene gives it, as in the uninterrupted run.
+      motion_ = std::make_unique<MeshMotion>(sim_.mesh, scene.growth.settings.mesh_motion);
+      if (!options.restart.empty()) first_growth_step_ = read_checkpoint(options.restart);
+    }
+    prepare_output(out, options.overwrite, options.restart);
+    writer_.emplace(out.string(), "scalar", options.overwrite);
+    series_.open(out);
   }
 
   // A flow run (no scalar field, no growth): the steady flow, or the time stages of it.
@@ -112,14 +159,12 @@ class Driver {
     return finish();
   }
 
-  int run_growth(const std::string& restart) {
+  int run_growth() {
     const GrowthSection& g = scene_.growth;
     const GrowthSettings& gs = g.settings;
     const int biofilm = sim_.mesh.block_index(g.biofilm_block);
-    MeshMotion motion(sim_.mesh, gs.mesh_motion);
-
-    int first = 0;
-    if (!restart.empty()) first = read_checkpoint(restart);
+    MeshMotion& motion = *motion_;
+    const int first = first_growth_step_;
     note_quality(mesh_quality_by_block(sim_.mesh));
 
     const std::vector<int> gamma =
@@ -287,7 +332,7 @@ class Driver {
   }
 
   void write(int step, double time, std::vector<OutputField> extra) {
-    writer_.write(step, time, sim_.output_mesh(), sim_.output_fields(std::move(extra)));
+    writer_->write(step, time, sim_.output_mesh(), sim_.output_fields(std::move(extra)));
   }
 
   void write_checkpoint(int growth_steps_done) {
@@ -314,34 +359,43 @@ class Driver {
     write_h5_datasets((out_ / name).string(), data);
   }
 
+  // A dataset of the restart file; one that cannot be read is bad input, named with --restart.
+  static std::vector<double> read_restart(const std::string& path, const char* name) {
+    try {
+      return read_h5_dataset(path, name);
+    } catch (const std::runtime_error& e) {
+      throw SceneError(std::string(e.what()) + " (--restart " + path + ")");
+    }
+  }
+
   // Restores mesh, concentration and time; returns the growth step to continue with.
   int read_checkpoint(const std::string& path) {
-    const auto xyz = read_h5_dataset(path, "coordinates");
-    const auto phi = read_h5_dataset(path, "phi");
-    const auto step = read_h5_dataset(path, "growth_step");
-    const auto time = read_h5_dataset(path, "time");
+    const auto xyz = read_restart(path, "coordinates");
+    const auto phi = read_restart(path, "phi");
+    const auto step = read_restart(path, "growth_step");
+    const auto time = read_restart(path, "time");
     if (xyz.size() != 3 * sim_.mesh.x.size() || phi.size() != sim_.mesh.x.size() ||
         step.size() != 1 || time.size() != 1)
-      throw std::runtime_error(path + ": the checkpoint does not match the scene's mesh (" +
-                               std::to_string(phi.size()) + " nodes in the checkpoint, " +
-                               std::to_string(sim_.mesh.n_nodes()) + " in the scene)");
+      throw SceneError(path + ": the checkpoint does not match the scene's mesh (" +
+                       std::to_string(phi.size()) + " nodes in the checkpoint, " +
+                       std::to_string(sim_.mesh.n_nodes()) + " in the scene)");
     for (int n = 0; n < sim_.mesh.n_nodes(); ++n)
       for (int c = 0; c < 3; ++c) sim_.mesh.x[n][c] = xyz[3 * n + c];
     sim_.scalar.update_coordinates(sim_.mesh);
     sim_.scalar.set_solution(phi);
     sim_.scalar.set_time(time[0]);
     if (sim_.fluid) {
-      const auto state = read_h5_dataset(path, "fluid");
+      const auto state = read_restart(path, "fluid");
       if (state.size() != 4 * sim_.mesh.x.size())
-        throw std::runtime_error(path + ": the checkpoint has no fluid state for this mesh");
+        throw SceneError(path + ": the checkpoint has no fluid state for this mesh");
       sim_.fluid->set_solution(state);
       sim_.fluid->set_time(time[0]);
       if (sim_.fsi) {
         auto points = [&](const char* name) {
-          const auto v = read_h5_dataset(path, name);
+          const auto v = read_restart(path, name);
           if (v.size() != 3 * sim_.mesh.x.size())
-            throw std::runtime_error(path + ": the checkpoint has no '" + std::string(name) +
-                                     "' for this mesh");
+            throw SceneError(path + ": the checkpoint has no '" + std::string(name) +
+                             "' for this mesh");
           std::vector<Point> out(sim_.mesh.n_nodes());
           for (int n = 0; n < sim_.mesh.n_nodes(); ++n)
             out[n] = {v[3 * n], v[3 * n + 1], v[3 * n + 2]};
@@ -357,13 +411,14 @@ class Driver {
       }
       sim_.after_flow_solve("restart");
     }
-    first_growth_step_ = static_cast<int>(step[0]);
-    if (first_growth_step_ < 0 || first_growth_step_ > scene_.growth.steps)
-      throw std::runtime_error(path + ": growth step " + std::to_string(first_growth_step_) +
-                               " is outside the scene's 0.." + std::to_string(scene_.growth.steps));
-    std::cout << "restart: " << path << " (after growth step " << first_growth_step_
-              << ", t = " << time[0] << " ms)\n";
-    return first_growth_step_;
+    // Compared as a double: a stored value outside int's range must not be converted first.
+    if (!(step[0] >= 0 && step[0] <= scene_.growth.steps))
+      throw SceneError(path + ": growth step " + std::to_string(step[0]) +
+                       " is outside the scene's 0.." + std::to_string(scene_.growth.steps));
+    const int first = static_cast<int>(step[0]);
+    std::cout << "restart: " << path << " (after growth step " << first << ", t = " << time[0]
+              << " ms)\n";
+    return first;
   }
 
   int failed(const SolveError& e, int step, double time) {
@@ -373,21 +428,21 @@ class Driver {
     // The fields restored their last valid state; write it unless it is already written.
     try {
       write(step, time, {});
-      std::cerr << "biofsi: wrote the last valid state to " << writer_.index_path() << " (step "
+      std::cerr << "biofsi: wrote the last valid state to " << writer_->index_path() << " (step "
                 << step << ")\n";
     } catch (const std::exception& w) {
       std::cerr << "biofsi: could not write the last valid state: " << w.what() << "\n";
     }
-    return 3;
+    return kExitSolveFailed;
   }
 
   int finish() {
     write_flux_tables(sim_, out_);
     const std::string summary = summarise(sim_, totals_, seconds());
     std::cout << summary;
-    std::ofstream(out_ / "summary.txt") << summary;
-    std::cout << "results: " << writer_.index_path() << " (open in ParaView)\n";
-    return 0;
+    write_text_file((out_ / "summary.txt").string(), summary);
+    std::cout << "results: " << writer_->index_path() << " (open in ParaView)\n";
+    return kExitSuccess;
   }
 
   double seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
@@ -395,44 +450,76 @@ class Driver {
   const Scene& scene_;
   std::filesystem::path out_;
   Simulation sim_;
-  XdmfWriter writer_;
   Series series_;
+  std::unique_ptr<MeshMotion> motion_;  // growth runs
+  std::optional<XdmfWriter> writer_;    // opened once the inputs are checked
   Clock::time_point start_;
   bool tty_ = isatty(STDOUT_FILENO);
   int first_growth_step_ = 0;
   RunTotals totals_;
 };
 
-}  // namespace
-
-int run_scene(const RunOptions& options) {
-  Scene scene;
-  try {
-    scene = load_scene(options.scene_path, options.overrides);
-  } catch (const SceneError& e) {
-    std::cerr << "biofsi: " << e.what() << "\n";
-    return 1;
-  }
-  const std::filesystem::path out_dir =
-      options.out_dir.empty() ? scene.output.directory : options.out_dir;
+// The run itself; every error it cannot handle leaves as an exception for run_scene's handler.
+int run_checked(const RunOptions& options) {
+  const Scene scene = load_scene(options.scene_path, options.overrides);
+  if (options.out_dir && options.out_dir->empty())
+    throw SceneError(
+        "--out '': an empty directory name; expected the directory to write the "
+        "results to (or no --out: the scene's output.directory)");
+  if (!options.restart.empty() && !scene.growth.enabled)
+    throw SceneError("--restart " + options.restart +
+                     ": the scene has no growth section; expected a growth scene to continue");
+  const std::filesystem::path out_dir = options.out_dir ? *options.out_dir : scene.output.directory;
   std::cout << "biofsi: scene " << scene.file << ", output " << out_dir.string() << "\n";
   print_active_fields(scene);
   if (!scene.scalar.enabled && !scene.fluid.enabled && !scene.structure.enabled) {
     std::cout << "nothing to solve: every field is off\n";
-    return 0;
+    return kExitSuccess;
   }
+  Driver driver(scene, options, out_dir);
+  if (scene.growth.enabled) return driver.run_growth();
+  if (!scene.scalar.enabled) return driver.run_flow();
+  return driver.run_transport();
+}
+
+}  // namespace
+
+int report_error(const std::string& scene_path) {
+  // Messages of these errors begin with the file they are about; others get the scene's.
+  auto line = [&](const std::exception& e, bool names_its_file) {
+    std::cerr << "biofsi: " << (names_its_file ? "" : scene_path + ": ") << e.what() << "\n";
+  };
   try {
-    Driver driver(scene, out_dir, options.overwrite);
-    if (scene.growth.enabled) return driver.run_growth(options.restart);
-    if (!scene.scalar.enabled) return driver.run_flow();
-    if (!options.restart.empty()) {
-      std::cerr << "biofsi: --restart needs a scene with a growth section\n";
-      return 1;
-    }
-    return driver.run_transport();
+    throw;
+  } catch (const OutputError& e) {
+    line(e, true);
+    return kExitOutputFailed;
+  } catch (const SceneError& e) {
+    line(e, true);
+    return kExitBadInput;
+  } catch (const MeshFileError& e) {
+    line(e, true);
+    return kExitBadInput;
+  } catch (const SolveError& e) {
+    line(e, false);
+    return kExitSolveFailed;
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "biofsi: " << scene_path << ": out of memory (" << e.what() << ")\n";
+    return kExitBadInput;
   } catch (const std::exception& e) {
-    std::cerr << "biofsi: " << e.what() << "\n";
-    return 1;
+    line(e, false);
+    return kExitBadInput;
+  } catch (...) {
+    std::cerr << "biofsi: " << scene_path << ": an error of unknown type\n";
+    return kExitBadInput;
+  }
+}
+
+int run_scene(const RunOptions& options) {
+  try {
+    return run_checked(options);
+  } catch (...) {
+    return report_error(options.scene_path);
   }
 }
 

@@ -8,24 +8,67 @@
 
 namespace biofsi {
 
+namespace {
+
+// When boundary data are checked before the run: its start, the end of its first step and the end
+// of its time stages. Values at other times are checked where they are used (space_time_function),
+// so an expression like 1/(t - 2) stops the run at t = 2, naming its key.
+std::vector<double> check_times(const Scene& s) {
+  double end = 0;
+  for (const auto& stage : s.time.stages) end += stage.dt * stage.steps;
+  return {0.0, s.time.dt, end};
+}
+
+std::vector<const SpaceTimeFunction*> functions_of(const ScalarBoundaryCondition& bc) {
+  return {&bc.value};
+}
+template <class Bc>
+std::vector<const SpaceTimeFunction*> functions_of(const Bc& bc) {
+  std::vector<const SpaceTimeFunction*> out;
+  for (const auto& f : bc.value)
+    if (f) out.push_back(&f);
+  return out;
+}
+
+// Evaluates each condition's expressions on the nodes of its boundary at check_times: a value
+// that is not finite throws NonFiniteExpression before anything is solved or written.
+template <class Bc>
+std::vector<Bc> checked(std::vector<Bc> bcs, const Mesh& mesh, const std::vector<double>& times) {
+  for (const Bc& bc : bcs) {
+    auto nodes = mesh.node_sets.find(bc.set);
+    if (nodes == mesh.node_sets.end()) continue;
+    for (const SpaceTimeFunction* f : functions_of(bc))
+      for (double t : times)
+        for (int n : nodes->second) (*f)(mesh.x[n], t);
+  }
+  return bcs;
+}
+
+}  // namespace
+
 Simulation::Simulation(const Scene& s)
     : scene(s),
-      mesh(make_scene_mesh(s)),
-      scalar(mesh, s.scalar.settings, scalar_boundary_conditions(s.scalar)) {
+      mesh(make_scene_mesh(s, &reoriented_elements)),
+      scalar(mesh, s.scalar.settings,
+             checked(scalar_boundary_conditions(s.scalar), mesh, check_times(s))) {
   if (s.fluid.enabled) {
-    fluid =
-        std::make_unique<FluidField>(mesh, s.fluid.settings, fluid_boundary_conditions(s.fluid));
+    fluid = std::make_unique<FluidField>(
+        mesh, s.fluid.settings, checked(fluid_boundary_conditions(s.fluid), mesh, check_times(s)));
     if (s.fluid.body_force) fluid->set_body_force(fluid_body_force(s.fluid));
   }
   if (s.structure.enabled) {
-    structure = std::make_unique<StructureField>(mesh, s.structure.settings,
-                                                 structure_boundary_conditions(s.structure));
+    structure = std::make_unique<StructureField>(
+        mesh, s.structure.settings,
+        checked(structure_boundary_conditions(s.structure), mesh, check_times(s)));
     if (s.structure.body_force) structure->set_body_force(structure_body_force(s.structure));
     if (fluid) fsi = std::make_unique<FsiProblem>(mesh, *fluid, *structure, s.fsi);
   }
-  scalar.set_initial(space_time_function(s.scalar.initial), 0.0);
+  // Both evaluated at every node here, so a non-finite value stops the run before it starts.
+  scalar.set_initial(space_time_function(s.scalar.initial, "fields.scalar.initial"), 0.0);
   std::array<SpaceTimeFunction, 3> v;
-  for (int d = 0; d < 3; ++d) v[d] = space_time_function(s.scalar.velocity[d]);
+  for (int d = 0; d < 3; ++d)
+    v[d] = space_time_function(s.scalar.velocity[d],
+                               scene_input::index_key("fields.scalar.velocity", d));
   std::vector<Point> c(mesh.n_nodes());
   for (int n = 0; n < mesh.n_nodes(); ++n)
     for (int d = 0; d < 3; ++d) c[n][d] = v[d](mesh.x[n], 0.0);

@@ -22,6 +22,7 @@ struct Simulation {
   explicit Simulation(const Scene& scene);
 
   const Scene& scene;
+  int reoriented_elements = 0;  // mirrored elements of a Gmsh mesh, re-oriented when it was read
   Mesh mesh;
   TransportField scalar;  // built always (cheap); stepped only when the scene turns it on
   std::unique_ptr<FluidField> fluid;

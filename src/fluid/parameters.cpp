@@ -88,7 +88,9 @@ FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
 
 FluidVectorFunction fluid_body_force(const FluidSection& section) {
   std::array<FluidFunction, 3> f;
-  for (int d = 0; d < 3; ++d) f[d] = space_time_function(section.body_force->at(d));
+  for (int d = 0; d < 3; ++d)
+    f[d] = space_time_function(section.body_force->at(d),
+                               "fields.fluid.body_force[" + std::to_string(d) + "]");
   // The field takes force per unit mass (kernels/fluid/pointwise.hpp).
   const double per_mass = 1 / section.settings.density;
   return [f, per_mass](const Point& x, double t) {
@@ -98,11 +100,20 @@ FluidVectorFunction fluid_body_force(const FluidSection& section) {
 
 std::vector<FluidBoundaryCondition> fluid_boundary_conditions(const FluidSection& section) {
   std::vector<FluidBoundaryCondition> out;
-  for (const auto& bc : section.boundary_conditions) switch (bc.type) {
+  for (size_t i = 0; i < section.boundary_conditions.size(); ++i) {
+    const FluidBcSpec& bc = section.boundary_conditions[i];
+    // The scene key of a value, for a message about where it is not finite.
+    auto key = [&](int d) {
+      const std::string value =
+          child_key(index_key("fields.fluid.boundary_conditions", i), "value");
+      return (bc.type == FluidBcType::Velocity ? index_key(value, d) : value) + " (line " +
+             std::to_string(bc.line) + ")";
+    };
+    switch (bc.type) {
       case FluidBcType::Velocity:
-        out.push_back(fluid_velocity(bc.boundary, space_time_function(bc.value[0]),
-                                     space_time_function(bc.value[1]),
-                                     space_time_function(bc.value[2])));
+        out.push_back(fluid_velocity(bc.boundary, space_time_function(bc.value[0], key(0)),
+                                     space_time_function(bc.value[1], key(1)),
+                                     space_time_function(bc.value[2], key(2))));
         break;
       case FluidBcType::NoSlip:
         out.push_back(fluid_no_slip(bc.boundary));
@@ -111,12 +122,13 @@ std::vector<FluidBoundaryCondition> fluid_boundary_conditions(const FluidSection
         out.push_back(fluid_slip(bc.boundary));
         break;
       case FluidBcType::Pressure:
-        out.push_back(fluid_pressure(bc.boundary, space_time_function(bc.value[0])));
+        out.push_back(fluid_pressure(bc.boundary, space_time_function(bc.value[0], key(0))));
         break;
       case FluidBcType::DoNothing:
         out.push_back(fluid_do_nothing(bc.boundary));
         break;
     }
+  }
   return out;
 }
 

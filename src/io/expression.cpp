@@ -3,7 +3,9 @@
 #include <muParser.h>
 
 #include <cctype>
+#include <cmath>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 namespace biofsi {
@@ -154,9 +156,28 @@ bool Expression::is_constant() const { return impl_->constant; }
 
 namespace biofsi {
 
-std::function<double(const Point&, double)> space_time_function(const std::string& text) {
+namespace {
+
+[[noreturn]] void non_finite(const std::string& key, const std::string& text, double value,
+                             const Point& x, double t) {
+  std::ostringstream msg;
+  msg.precision(17);
+  msg << key << ": '" << text << "' is " << (std::isnan(value) ? "NaN" : "infinite")
+      << " at (x, y, z) = (" << x[0] << ", " << x[1] << ", " << x[2] << "), t = " << t
+      << "; expected an expression that is finite wherever it applies";
+  throw NonFiniteExpression(msg.str());
+}
+
+}  // namespace
+
+std::function<double(const Point&, double)> space_time_function(const std::string& text,
+                                                                const std::string& key) {
   auto e = std::make_shared<Expression>(text);
-  return [e](const Point& x, double t) { return (*e)(x[0], x[1], x[2], t); };
+  return [e, key](const Point& x, double t) {
+    const double v = (*e)(x[0], x[1], x[2], t);
+    if (!std::isfinite(v)) non_finite(key, e->text(), v, x, t);
+    return v;
+  };
 }
 
 }  // namespace biofsi

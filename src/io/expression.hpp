@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "mesh/mesh.hpp"
@@ -30,7 +31,17 @@ class Expression {
   std::unique_ptr<Impl> impl_;
 };
 
+// An expression that is NaN or infinite where it is used: sqrt(-1), 1/0, 10^400, 1/(t-2) at t = 2.
+// The message names the scene key, the expression, the point and the time.
+class NonFiniteExpression : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The expression as a function of a point and time (boundary and initial data of the fields).
-std::function<double(const Point&, double)> space_time_function(const std::string& text);
+// Every value is checked: a NaN or infinite one throws NonFiniteExpression naming `key` (the
+// scene key the expression was read from, e.g. "fields.scalar.initial"), whenever it is met.
+std::function<double(const Point&, double)> space_time_function(const std::string& text,
+                                                                const std::string& key);
 
 }  // namespace biofsi

@@ -1,12 +1,15 @@
 #include "io/output.hpp"
 
+#include <fcntl.h>
 #include <hdf5.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -15,6 +18,47 @@ namespace biofsi {
 namespace fs = std::filesystem;
 
 namespace {
+
+// HDF5 prints its error stack to stderr by default, dozens of lines per failure; every call here
+// checks its result and reads the stack into one message instead (hdf5_reason).
+void silence_hdf5() {
+  static const bool silenced = H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr) >= 0;
+  (void)silenced;
+}
+
+// The reason of the last HDF5 failure, from its error stack (which is then cleared): the system's
+// reason where a system call failed (HDF5 records its errno), with the innermost HDF5 message.
+std::string hdf5_reason() {
+  struct Found {
+    std::string innermost;
+    int os_errno = 0;
+  } found;
+  auto walk = [](unsigned depth, const H5E_error2_t* e, void* data) -> herr_t {
+    auto& f = *static_cast<Found*>(data);
+    const std::string desc = e->desc ? e->desc : "";
+    // The description's first clause; the rest repeats errno, a time stamp and buffer addresses.
+    if (depth == 0)
+      f.innermost = std::string(e->func_name ? e->func_name : "") + ": " +
+                    desc.substr(0, desc.find_first_of(":,\n"));
+    const size_t at = desc.find("errno = ");
+    if (at != std::string::npos && f.os_errno == 0) f.os_errno = std::atoi(desc.c_str() + at + 8);
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk, &found);
+  H5Eclear2(H5E_DEFAULT);
+  const std::string& gist = found.innermost;
+  if (found.os_errno != 0)
+    return std::string(std::strerror(found.os_errno)) + " (HDF5: " + gist + ")";
+  return gist.empty() ? "HDF5 gave no reason" : "HDF5: " + gist;
+}
+
+[[noreturn]] void hdf5_failed(const std::string& path, const std::string& what) {
+  throw OutputError(path + ": " + what + ": " + hdf5_reason());
+}
+
+[[noreturn]] void system_failed(const std::string& path, const std::string& what, int error) {
+  throw OutputError(path + ": " + what + ": " + std::strerror(error));
+}
 
 // Closes an HDF5 handle on scope exit, so an error path leaks nothing and leaves no open file.
 class H5Handle {
@@ -41,16 +85,17 @@ class H5Handle {
 
 void write_dataset(hid_t file, const std::string& path, const std::string& name, hid_t file_type,
                    hid_t mem_type, const std::vector<hsize_t>& dims, const void* data) {
-  auto fail = [&]() { return std::runtime_error(path + ": cannot write dataset '/" + name + "'"); };
+  const std::string what = "cannot write dataset '/" + name + "'";
   H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
-  if (!space.ok()) throw fail();
+  if (!space.ok()) hdf5_failed(path, what);
   H5Handle set(H5Dcreate2(file, ("/" + name).c_str(), file_type, space.get(), H5P_DEFAULT,
                           H5P_DEFAULT, H5P_DEFAULT),
                H5Dclose);
-  if (!set.ok()) throw fail();
+  if (!set.ok()) hdf5_failed(path, what);
   // An empty dataset has nothing to transfer and a null buffer is then legitimate.
-  if (data && H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) throw fail();
-  if (!set.close()) throw fail();
+  if (data && H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+    hdf5_failed(path, what);
+  if (!set.close()) hdf5_failed(path, what);
 }
 
 std::string xml_escape(const std::string& s) {
@@ -101,38 +146,42 @@ const char* attribute_type(int n_components) {
   }
 }
 
-// Writes `text` to `path` through a temporary file, so a reader never sees half an index.
-void write_file_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error(tmp + ": cannot write");
-    }
+// Writes all of `text` to the open descriptor; false with errno set if the system refuses.
+bool write_all(int fd, const std::string& text) {
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<size_t>(n);
   }
+  return true;
+}
+
+// Moves the written temporary file onto `path`; removes it if that fails.
+void rename_into_place(const std::string& tmp, const std::string& path) {
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int error = errno;
     std::error_code ec;
     fs::remove(tmp, ec);
-    throw std::runtime_error("cannot rename " + tmp + " to " + path);
+    system_failed(path, "cannot rename " + tmp + " to it", error);
   }
 }
 
 // Creates `path` as an HDF5 file through a temporary name: `fill` writes the datasets into the open
-// temporary file, which is renamed only once closed, so a reader never sees a partial file.
+// temporary file (messages name `path`), which is renamed only once closed, so a reader never sees
+// a partial file.
 template <class Fill>
 void write_h5_atomically(const std::string& path, const Fill& fill) {
+  silence_hdf5();
   const std::string tmp = path + ".tmp";
   try {
     H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-    if (!file.ok()) throw std::runtime_error(tmp + ": cannot create the HDF5 file");
-    fill(file.get(), tmp);
-    if (!file.close()) throw std::runtime_error(tmp + ": cannot close the HDF5 file");
-    if (std::rename(tmp.c_str(), path.c_str()) != 0)
-      throw std::runtime_error("cannot rename " + tmp + " to " + path);
+    if (!file.ok()) hdf5_failed(path, "cannot create the HDF5 file");
+    fill(file.get(), path);
+    // Data still in HDF5's cache reach the disk here: a full disk can show only now.
+    if (!file.close()) hdf5_failed(path, "cannot write the HDF5 file");
+    rename_into_place(tmp, path);
   } catch (...) {
     std::error_code ec;
     fs::remove(tmp, ec);
@@ -142,19 +191,62 @@ void write_h5_atomically(const std::string& path, const Fill& fill) {
 
 }  // namespace
 
+void write_text_file(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) system_failed(path, "cannot create " + tmp, errno);
+  const bool written = write_all(fd, text);
+  const int write_error = errno;
+  // close() can report a failed write that the system deferred (NFS, quotas).
+  const bool closed = ::close(fd) == 0;
+  const int error = !written ? write_error : errno;
+  if (!written || !closed) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    system_failed(path, "cannot write", error);
+  }
+  rename_into_place(tmp, path);
+}
+
+TextLog::TextLog(const std::string& path)
+    : path_(path), fd_(::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)) {
+  if (fd_ < 0) system_failed(path, "cannot create", errno);
+}
+
+TextLog::~TextLog() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+TextLog::TextLog(TextLog&& other) noexcept : path_(std::move(other.path_)), fd_(other.fd_) {
+  other.fd_ = -1;
+}
+
+TextLog& TextLog::operator=(TextLog&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    path_ = std::move(other.path_);
+    fd_ = other.fd_;
+    other.fd_ = -1;
+  }
+  return *this;
+}
+
+void TextLog::append(const std::string& text) {
+  if (!write_all(fd_, text)) system_failed(path_, "cannot write", errno);
+}
+
 XdmfWriter::XdmfWriter(const std::string& directory, const std::string& basename, bool overwrite)
     : directory_(directory), basename_(basename) {
   if (basename.empty() || basename.find('/') != std::string::npos)
     throw std::invalid_argument("output basename '" + basename + "' must be a plain file name");
   std::error_code ec;
   fs::create_directories(directory_, ec);
-  if (ec)
-    throw std::runtime_error(directory_ + ": cannot create the output directory: " + ec.message());
+  if (ec) system_failed(directory_, "cannot create the output directory", ec.value());
   index_path_ = (fs::path(directory_) / (basename_ + ".xdmf")).string();
   if (fs::exists(index_path_) && !overwrite)
-    throw std::runtime_error(index_path_ +
-                             " already exists; pass --overwrite to replace it or choose another "
-                             "--out directory");
+    throw std::invalid_argument(index_path_ +
+                                " already exists; pass --overwrite to replace it or choose "
+                                "another --out directory");
   // Overwriting replaces the whole series: step files of an earlier (longer) run would otherwise
   // stay beside the new index and be mistaken for this run's.
   if (overwrite && fs::is_directory(directory_))
@@ -269,7 +361,7 @@ void XdmfWriter::write_index() const {
     x << "      </Grid>\n";
   }
   x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
-  write_file_atomically(index_path_, x.str());
+  write_text_file(index_path_, x.str());
 }
 
 void write_h5_datasets(const std::string& path,
@@ -283,9 +375,11 @@ void write_h5_datasets(const std::string& path,
 }
 
 std::vector<double> read_h5_dataset(const std::string& h5_path, const std::string& dataset) {
+  silence_hdf5();
   if (!fs::is_regular_file(h5_path)) throw std::runtime_error(h5_path + ": no such file");
   H5Handle file(H5Fopen(h5_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!file.ok()) throw std::runtime_error(h5_path + ": cannot open as HDF5");
+  if (!file.ok())
+    throw std::runtime_error(h5_path + ": cannot open as HDF5 (" + hdf5_reason() + ")");
   const std::string name = dataset.empty() || dataset[0] != '/' ? "/" + dataset : dataset;
   // Check each link on the way so that a missing name is an exception, not an HDF5 error dump.
   for (size_t pos = name.find('/', 1);; pos = name.find('/', pos + 1)) {

@@ -61,7 +61,7 @@ std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& 
   }
   Mesh mesh;
   try {
-    mesh = make_scene_mesh(scene, false);
+    mesh = make_scene_mesh(scene, nullptr, false);
   } catch (const MeshFileError& e) {
     c.fail(file, m.key("file"), std::string("cannot use the mesh (") + e.what() + ")", name,
            expected +
@@ -194,6 +194,12 @@ void read_box_mesh(const Checker& c, const MapView& m, Scene& scene) {
   if (n_nodes > 2147483647LL)
     c.fail(node, "mesh", "too many nodes", std::to_string(n_nodes) + " nodes",
            "at most 2147483647 nodes (nx, nz and the blocks' ny)");
+  // Refused here, not when the mesh is built: a box larger than memory would otherwise be
+  // allocated until the system runs out.
+  const std::string memory = memory_shortfall(n_nodes);
+  if (!memory.empty())
+    c.fail(node, "mesh", "the mesh does not fit in memory: " + memory,
+           std::to_string(n_nodes) + " nodes", "a mesh that fits (nx, nz and the blocks' ny)");
 
   // Face-set names are built from block names; two sources of one name would merge two
   // boundaries silently (e.g. blocks "a" and "left": "a_left" is both a's side and the interface).
@@ -625,25 +631,40 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file,
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::is_directory(status))
     throw SceneError(path + ": cannot read the scene file: it is a directory");
+  // A device or pipe (/dev/zero, /dev/stdin) may never end.
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw SceneError(path + ": cannot read the scene file: not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot read the scene file: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
+  // Read in chunks up to the limit, whatever the file's size claims.
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<size_t>(in.gcount()));
+    if (text.size() > kMaxSceneBytes)
+      throw SceneError(path + ": the scene file is larger than " + std::to_string(kMaxSceneBytes) +
+                       " bytes (" + std::to_string(fs::file_size(path, ec)) +
+                       "); expected a scene of a few kB");
+  }
   if (in.bad()) throw SceneError(path + ": cannot read the scene file: " + std::strerror(errno));
-  return parse_scene(text.str(), path, overrides);
+  return parse_scene(text, path, overrides);
 }
 
-Mesh make_scene_mesh(const Scene& scene, bool keep_blocks) {
+Mesh make_scene_mesh(const Scene& scene, int* reoriented, bool keep_blocks) {
+  if (reoriented) *reoriented = 0;
   Mesh mesh;
   if (scene.mesh_type != "gmsh")
     mesh = make_box_mesh(scene.box);
   else if (std::filesystem::path(scene.gmsh_file).extension() == ".geo")
-    mesh = mesh_geo_with_gmsh(scene.gmsh_file, scene.gmsh_parameters, scene.gmsh_thickness);
+    mesh = mesh_geo_with_gmsh(scene.gmsh_file, scene.gmsh_parameters, scene.gmsh_thickness,
+                              reoriented);
   else
-    mesh = read_gmsh(scene.gmsh_file, scene.gmsh_thickness);
+    mesh = read_gmsh(scene.gmsh_file, scene.gmsh_thickness, reoriented);
   if (keep_blocks && !scene.gmsh_keep_blocks.empty()) mesh = submesh(mesh, scene.gmsh_keep_blocks);
   for (const auto& [name, sets] : scene.mesh_unions) add_union_set(mesh, sets, name);
   return mesh;

@@ -97,12 +97,17 @@ struct Scene {
 };
 
 // The scene's mesh (generated, or read from its Gmsh file and cut to mesh.keep_blocks unless
-// `keep_blocks` is false).
-Mesh make_scene_mesh(const Scene& scene, bool keep_blocks = true);
+// `keep_blocks` is false, with mesh.unions added); *reoriented receives the number of mirrored
+// elements of a Gmsh file that were re-oriented (read_gmsh).
+Mesh make_scene_mesh(const Scene& scene, int* reoriented = nullptr, bool keep_blocks = true);
+
+// A scene file is a few kB; anything larger than this is refused before it is parsed.
+constexpr size_t kMaxSceneBytes = 16u << 20;
 
 // Reads and validates a scene. `overrides` are "dotted.key=value" strings (e.g. "time.dt=0.5",
 // "mesh.blocks.1.ny=40") applied to the YAML tree before validation. Throws SceneError before any
-// solve on unknown keys, wrong types, missing required values or non-physical values.
+// solve on unknown keys, wrong types, missing required values or non-physical values, on a path
+// that is not a regular file and on a file larger than kMaxSceneBytes.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 // The same from a YAML string (tests); `file` is used in messages.

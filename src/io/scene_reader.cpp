@@ -296,5 +296,15 @@ int line_of(const Node& n, int fallback) {
   return n.IsDefined() && !n.Mark().is_null() ? n.Mark().line + 1 : fallback;
 }
 
+void OneConditionPerBoundary::claim(const Checker& c, const Node& at, const std::string& key,
+                                    const std::string& boundary) {
+  const auto [first, fresh] = first_.emplace(boundary, key);
+  if (!fresh)
+    c.fail(at, key,
+           "a second " + field_ + " boundary condition on '" + boundary + "' (the first is " +
+               first->second + ")",
+           boundary, "each boundary once in a field's boundary_conditions");
+}
+
 }  // namespace scene_input
 }  // namespace biofsi

@@ -159,9 +159,21 @@ std::vector<std::string> block_list(const MapView& m, const std::string& name,
                                     const std::string& what);
 int line_of(const Node& n, int fallback);
 
+// A field takes one boundary condition per boundary: with two, which one holds is not what the
+// scene says. claim() refuses the second, naming the first.
+class OneConditionPerBoundary {
+ public:
+  explicit OneConditionPerBoundary(std::string field) : field_(std::move(field)) {}
+  void claim(const Checker& c, const Node& at, const std::string& key, const std::string& boundary);
+
+ private:
+  std::string field_;
+  std::map<std::string, std::string> first_;  // boundary -> the key of its condition
+};
+
 // The boundary_conditions list of a field section (required, non-empty, maps with the keys
 // boundary, type and value): read(item, line, boundary) of each, the boundary checked to be a
-// face set of the mesh.
+// face set of the mesh that no earlier item of the list names.
 template <class Read>
 auto read_boundary_conditions(const MapView& m, const std::string& field,
                               const std::set<std::string>& face_sets, Read read) {
@@ -173,14 +185,16 @@ auto read_boundary_conditions(const MapView& m, const std::string& field,
   const Node bcs = m.require("boundary_conditions", list_expected);
   if (!bcs.IsSequence() || bcs.size() == 0) c.wrong_type(bcs, key, list_expected);
   std::vector<std::string> names(face_sets.begin(), face_sets.end());
+  OneConditionPerBoundary once(field);
   for (size_t i = 0; i < bcs.size(); ++i) {
     const Node item = bcs[i];
     const std::string ikey = index_key(key, i);
     if (!item.IsMap()) c.wrong_type(item, ikey, "a map {boundary, type, ...}");
     const MapView typed(c, item, ikey, {"boundary", "type", "value"});
     const Node b = typed.require("boundary", "a face set of the mesh: " + join_list(names));
-    out.push_back(
-        read(typed, line_of(item, 0), boundary_name(c, b, typed.key("boundary"), face_sets)));
+    const std::string boundary = boundary_name(c, b, typed.key("boundary"), face_sets);
+    once.claim(c, b, typed.key("boundary"), boundary);
+    out.push_back(read(typed, line_of(item, 0), boundary));
   }
   return out;
 }

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -20,11 +21,25 @@ namespace biofsi {
 
 namespace {
 
-// Line-oriented reader that knows where it is, for messages.
+// The fewest bytes a node takes in $Nodes: its tag ("t\n") and its coordinates ("x y z\n").
+constexpr long long kNodeBytes = 8;
+
+// Line-oriented reader that knows where it is, for messages, and how much of the file is left, so
+// that a count is checked against what the file can hold before anything is allocated for it.
 class MshReader {
  public:
-  explicit MshReader(const std::string& path) : path_(path), in_(path) {
-    if (!in_) throw MeshFileError(path + ": cannot open the mesh file");
+  explicit MshReader(const std::string& path) : path_(path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status))
+      throw MeshFileError(path + ": cannot open the mesh file: no such file");
+    // A device or pipe (/dev/zero) could be read forever.
+    if (!std::filesystem::is_regular_file(status))
+      throw MeshFileError(path + ": cannot open the mesh file: not a regular file");
+    size_ = static_cast<long long>(std::filesystem::file_size(path, ec));
+    in_.open(path, std::ios::binary);
+    if (!in_ || ec)
+      throw MeshFileError(path + ": cannot open the mesh file: " + std::strerror(errno));
   }
 
   bool next_line(std::string& line) {
@@ -56,9 +71,29 @@ class MshReader {
     throw MeshFileError(path_ + ":" + std::to_string(line_number_) + ": " + why);
   }
 
+  // A count read from the file, before anything is allocated for it: not negative, and not more
+  // records of at least `record_bytes` each than the rest of the file holds.
+  void check_count(long long n, const char* what, long long record_bytes) {
+    if (n < 0) fail("negative number of " + std::string(what) + " (" + std::to_string(n) + ")");
+    const long long left = std::max(0LL, size_ - static_cast<long long>(in_.tellg()));
+    if (n > left / record_bytes)
+      fail(std::to_string(n) + " " + what + " announced, but the rest of the file (" +
+           std::to_string(left) + " bytes) holds at most " + std::to_string(left / record_bytes));
+  }
+
+  // A count within one line `s` of records of at least `record_bytes` characters each.
+  void check_count_in_line(long long n, const char* what, const std::istringstream& s,
+                           long long record_bytes) {
+    if (n < 0) fail("negative number of " + std::string(what) + " (" + std::to_string(n) + ")");
+    if (n > static_cast<long long>(s.str().size()) / record_bytes)
+      fail(std::to_string(n) + " " + what + " announced in a line of " +
+           std::to_string(s.str().size()) + " characters");
+  }
+
  private:
   std::string path_;
   std::ifstream in_;
+  long long size_ = 0;
   int line_number_ = 0;
 };
 
@@ -68,6 +103,7 @@ struct RawMesh {
   std::map<long long, Point> nodes;
   struct Cell {
     int dim, entity;
+    long long tag;
     std::vector<long long> nodes;
   };
   std::vector<Cell> hexes, quads, lower;  // lower: points (type 15) and lines (type 1)
@@ -86,9 +122,10 @@ void read_mesh_format(MshReader& r) {
 
 void read_physical_names(MshReader& r, RawMesh& m) {
   auto s = r.record("$PhysicalNames");
-  int n = 0;
+  long long n = 0;
   r.read(s, "the number of physical names", n);
-  for (int i = 0; i < n; ++i) {
+  r.check_count(n, "physical names", 7);  // d t "name"
+  for (long long i = 0; i < n; ++i) {
     auto rec = r.record("$PhysicalNames");
     int dim = 0, tag = 0;
     r.read(rec, "a physical name (dim tag \"name\")", dim, tag);
@@ -103,18 +140,20 @@ void read_physical_names(MshReader& r, RawMesh& m) {
 
 void read_entities(MshReader& r, RawMesh& m) {
   auto s = r.record("$Entities");
-  int counts[4] = {0, 0, 0, 0};
+  long long counts[4] = {0, 0, 0, 0};
   r.read(s, "the entity counts", counts[0], counts[1], counts[2], counts[3]);
+  for (int dim = 0; dim < 4; ++dim) r.check_count(counts[dim], "entities", 2 * (dim == 0 ? 5 : 8));
   for (int dim = 0; dim < 4; ++dim)
-    for (int i = 0; i < counts[dim]; ++i) {
+    for (long long i = 0; i < counts[dim]; ++i) {
       auto rec = r.record("$Entities");
       int tag = 0;
       double box[6];
       const int n_coords = dim == 0 ? 3 : 6;
       r.read(rec, "an entity tag", tag);
       for (int c = 0; c < n_coords; ++c) r.read(rec, "an entity's bounding box", box[c]);
-      int n_physicals = 0;
+      long long n_physicals = 0;
       r.read(rec, "an entity's number of physical tags", n_physicals);
+      r.check_count_in_line(n_physicals, "physical tags", rec, 2);
       std::vector<int> tags(n_physicals);
       for (int& t : tags) r.read(rec, "a physical tag", t);
       m.entity_physicals[{dim, tag}] = tags;
@@ -126,12 +165,17 @@ void read_nodes(MshReader& r, RawMesh& m) {
   auto s = r.record("$Nodes");
   long long n_blocks = 0, n_nodes = 0, min_tag = 0, max_tag = 0;
   r.read(s, "the node header", n_blocks, n_nodes, min_tag, max_tag);
+  r.check_count(n_blocks, "node blocks", 8);
+  r.check_count(n_nodes, "nodes", kNodeBytes);
+  const std::string memory = memory_shortfall(n_nodes);
+  if (!memory.empty()) r.fail("the mesh is too large: " + memory);
   for (long long b = 0; b < n_blocks; ++b) {
     auto head = r.record("$Nodes");
     int dim = 0, entity = 0, parametric = 0;
     long long n = 0;
     r.read(head, "a node block header", dim, entity, parametric, n);
     if (parametric) r.fail("parametric node coordinates are not supported; save without them");
+    r.check_count(n, "nodes", kNodeBytes);
     std::vector<long long> tags(n);
     for (auto& t : tags) {
       auto rec = r.record("$Nodes");
@@ -141,7 +185,7 @@ void read_nodes(MshReader& r, RawMesh& m) {
       auto rec = r.record("$Nodes");
       Point p;
       r.read(rec, "node coordinates", p[0], p[1], p[2]);
-      m.nodes[t] = p;
+      if (!m.nodes.emplace(t, p).second) r.fail("node " + std::to_string(t) + " is defined twice");
     }
   }
   if (static_cast<long long>(m.nodes.size()) != n_nodes)
@@ -177,22 +221,32 @@ void read_elements(MshReader& r, RawMesh& m) {
   auto s = r.record("$Elements");
   long long n_blocks = 0, n_elements = 0, min_tag = 0, max_tag = 0;
   r.read(s, "the element header", n_blocks, n_elements, min_tag, max_tag);
+  r.check_count(n_blocks, "element blocks", 8);
+  r.check_count(n_elements, "elements", 4);  // the shortest: a point, "t n"
   for (long long b = 0; b < n_blocks; ++b) {
     auto head = r.record("$Elements");
     int dim = 0, entity = 0, type = 0;
     long long n = 0;
     r.read(head, "an element block header", dim, entity, type, n);
     const int nn = nodes_per_element(type);
-    if (nn < 0 || (dim == 3 && type != 5) || (dim == 2 && type != 3))
+    // Each dimension has the one element type the mesh is built from.
+    const int expected_type[4] = {15, 1, 3, 5};
+    if (dim < 0 || dim > 3 || type != expected_type[dim])
       r.fail("element type " + std::to_string(type) + " in a " + std::to_string(dim) +
-             "-D entity; expected hexahedra (5) and quadrilaterals (3) only: recombine and "
-             "extrude with Recombine");
+             "-D entity; expected hexahedra (5), quadrilaterals (3), lines (1) and points (15) "
+             "only: recombine and extrude with Recombine");
+    r.check_count(n, "elements", 2 * (nn + 1));
     for (long long i = 0; i < n; ++i) {
       auto rec = r.record("$Elements");
       long long tag = 0;
       r.read(rec, "an element tag", tag);
-      RawMesh::Cell cell{dim, entity, std::vector<long long>(nn)};
-      for (auto& v : cell.nodes) r.read(rec, "an element's node tags", v);
+      RawMesh::Cell cell{dim, entity, tag, std::vector<long long>(nn)};
+      for (auto& v : cell.nodes) {
+        r.read(rec, "an element's node tags", v);
+        if (!m.nodes.count(v))
+          r.fail("element " + std::to_string(tag) + " uses node " + std::to_string(v) +
+                 ", which $Nodes does not define");
+      }
       (dim == 3 ? m.hexes : dim == 2 ? m.quads : m.lower).push_back(std::move(cell));
     }
   }
@@ -204,13 +258,6 @@ void skip_section(MshReader& r, const std::string& name) {
   while (r.next_line(line))
     if (line == "$End" + name) return;
   r.fail("section $" + name + " is not closed");
-}
-
-// Only its sign is read: negative where the corners, taken in VTK order, make a left-handed cell.
-double jacobian_determinant_at_centre(const Mesh& m, const std::array<int, 8>& c) {
-  double jac[3][3], unused_inverse[3][3];
-  hex8_jacobian(m, c, {0, 0, 0}, jac);
-  return invert_jacobian(jac, unused_inverse);
 }
 
 using FaceKey = std::array<int, 4>;
@@ -250,6 +297,7 @@ struct NamedFace {
 // Hexahedra and named faces in local numbering, from a 3-D file or from a 2-D one extruded.
 struct Cells {
   std::vector<std::array<int, 8>> hexes;
+  std::vector<long long> tag;  // the file's element tag (of the quadrilateral, when extruded)
   std::vector<int> block;
   std::vector<NamedFace> faces;
   std::map<std::string, std::set<int>> node_sets;  // from curves and points (3-D) or points (2-D)
@@ -285,6 +333,7 @@ Cells cells_from_hexahedra(const std::string& path, const RawMesh& raw, Mesh& m,
     std::array<int, 8> v;
     for (int a = 0; a < 8; ++a) v[a] = local.at(h.nodes[a]);
     c.hexes.push_back(v);
+    c.tag.push_back(h.tag);
     c.block.push_back(block_of_entity(raw, block_of_physical, 3, h.entity, path));
   }
   for (const auto& q : raw.quads) {
@@ -344,6 +393,7 @@ Cells cells_from_extruded_quads(const std::string& path, const RawMesh& raw, dou
       v[k + 4] = v[k] + n2;
     }
     c.hexes.push_back(v);
+    c.tag.push_back(q.tag);
     c.block.push_back(block_of_entity(raw, block_of_physical, 2, q.entity, path));
     c.faces.push_back({{"front"}, {v[0], v[1], v[2], v[3]}});
     c.faces.push_back({{"back"}, {v[4], v[5], v[6], v[7]}});
@@ -367,21 +417,39 @@ Cells cells_from_extruded_quads(const std::string& path, const RawMesh& raw, dou
   return c;
 }
 
-Mesh build_mesh(const std::string& path, const RawMesh& raw, double thickness) {
-  Mesh m;
-  std::map<long long, int> local;
-  Cells cells = raw.hexes.empty() ? cells_from_extruded_quads(path, raw, thickness, m, local)
-                                  : cells_from_hexahedra(path, raw, m, local);
+// The hexahedra into the mesh, each checked at its 8 corners: a consistently mirrored one (every
+// corner left-handed) is re-oriented and counted; an inverted, folded or degenerate one stops the
+// read, naming the element, its block and the worst corner's scaled Jacobian.
+int add_checked_hexahedra(const std::string& path, const Cells& cells, Mesh& m) {
+  int mirrored = 0;
   for (size_t e = 0; e < cells.hexes.size(); ++e) {
     auto c = cells.hexes[e];
-    // Gmsh's hexahedron numbering is VTK's; only the handedness may differ.
-    if (jacobian_determinant_at_centre(m, c) < 0) {
-      std::swap(c[1], c[3]);
-      std::swap(c[5], c[7]);
+    const ElementCheck check = check_element(m, c);
+    if (check.shape == ElementShape::Mirrored) {
+      c = reorient(c);
+      ++mirrored;
+    } else if (check.shape != ElementShape::Valid) {
+      std::ostringstream msg;
+      msg << path << ": element " << cells.tag[e] << " of block '" << m.block_names[cells.block[e]]
+          << "' is " << shape_name(check.shape) << ": scaled Jacobian " << check.value
+          << " at its corner " << check.corner << " (of 0-7 in VTK order); expected above "
+          << kDegenerateJacobian << " at all 8 corners (or below -" << kDegenerateJacobian
+          << " at all 8: a mirrored element, re-oriented)";
+      throw MeshFileError(msg.str());
     }
     m.conn.push_back(c);
     m.element_block.push_back(cells.block[e]);
   }
+  return mirrored;
+}
+
+Mesh build_mesh(const std::string& path, const RawMesh& raw, double thickness, int* reoriented) {
+  Mesh m;
+  std::map<long long, int> local;
+  Cells cells = raw.hexes.empty() ? cells_from_extruded_quads(path, raw, thickness, m, local)
+                                  : cells_from_hexahedra(path, raw, m, local);
+  const int mirrored = add_checked_hexahedra(path, cells, m);
+  if (reoriented) *reoriented = mirrored;
 
   std::map<FaceKey, std::vector<BoundaryFace>> faces;
   for (int e = 0; e < m.n_elements(); ++e)
@@ -411,7 +479,7 @@ Mesh build_mesh(const std::string& path, const RawMesh& raw, double thickness) {
 
 }  // namespace
 
-Mesh read_gmsh(const std::string& path, double thickness) {
+Mesh read_gmsh(const std::string& path, double thickness, int* reoriented) {
   MshReader r(path);
   RawMesh raw;
   bool have_format = false, have_entities = false, have_nodes = false, have_elements = false;
@@ -444,12 +512,12 @@ Mesh read_gmsh(const std::string& path, double thickness) {
     throw MeshFileError(path +
                         ": missing section(s); expected $MeshFormat, $Entities, $Nodes and "
                         "$Elements of a MSH 4.1 ASCII file");
-  return build_mesh(path, raw, thickness);
+  return build_mesh(path, raw, thickness, reoriented);
 }
 
 Mesh mesh_geo_with_gmsh(const std::string& geo_path,
                         const std::vector<std::pair<std::string, double>>& parameters,
-                        double thickness) {
+                        double thickness, int* reoriented) {
   namespace fs = std::filesystem;
   if (!fs::is_regular_file(geo_path)) throw MeshFileError(geo_path + ": cannot open the .geo file");
   const fs::path dir = fs::temp_directory_path();
@@ -493,7 +561,7 @@ Mesh mesh_geo_with_gmsh(const std::string& geo_path,
                         "): " + messages);
   }
   try {
-    Mesh m = read_gmsh(msh, thickness);
+    Mesh m = read_gmsh(msh, thickness, reoriented);
     fs::remove(msh);
     return m;
   } catch (...) {

@@ -25,16 +25,21 @@ struct MeshFileError : std::runtime_error {
 //   (z = 0) and "back" (z = thickness) are added.
 // A face shared by two hexahedra (an interface between blocks) is in its face set once per side,
 // so that a sub-mesh of one block keeps that block's side; integrate over one side by filtering on
-// the element's block. Left-handed hexahedra are reordered; nodes no hexahedron uses are dropped.
-// Throws MeshFileError naming the file, the line and what was expected.
-Mesh read_gmsh(const std::string& path, double thickness = 0);
+// the element's block. Nodes no hexahedron uses are dropped.
+// Every hexahedron is checked at its 8 corners (check_element): a mirrored one (left-handed at
+// every corner) is re-oriented and counted in *reoriented; an inverted, folded or degenerate one
+// is an error naming the element's tag, its block and the scaled Jacobian.
+// Counts are checked against the file's length before anything is allocated for them, and the
+// node count against the memory available (memory_shortfall).
+// Throws MeshFileError naming the file, the line (or element) and what was expected.
+Mesh read_gmsh(const std::string& path, double thickness = 0, int* reoriented = nullptr);
 
 // Meshes a .geo file with Debian's gmsh (found on PATH) into a temporary MSH 4.1 file and reads
 // it: 2-D (-2) and extruded when thickness > 0, 3-D (-3) otherwise. `parameters` are passed as
 // -setnumber NAME VALUE (e.g. refine). Throws MeshFileError with gmsh's exit status and messages.
 Mesh mesh_geo_with_gmsh(const std::string& geo_path,
                         const std::vector<std::pair<std::string, double>>& parameters,
-                        double thickness);
+                        double thickness, int* reoriented = nullptr);
 
 // The elements of the named blocks with the nodes they use, renumbered in the parent's order; block
 // names keep their order, sets are restricted to what remains (empty ones dropped).

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
 #include <numeric>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "kernels/core/hex8.hpp"
@@ -242,31 +246,141 @@ void add_union_set(Mesh& mesh, const std::vector<std::string>& sets, const std::
   mesh.face_sets[name] = faces;
 }
 
-std::vector<double> scaled_jacobians(const Mesh& mesh) {
+std::array<double, 8> corner_scaled_jacobians(const Mesh& mesh, const std::array<int, 8>& corners) {
   // Corner c of a VTK hex and its three edge neighbours, ordered so that a right-handed cube has
   // positive determinant at every corner.
   constexpr int corner_edges[8][3] = {{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7},
                                       {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}};
-  std::vector<double> out(mesh.conn.size());
-  for (int e = 0; e < mesh.n_elements(); ++e) {
-    double worst = 1.0;
-    for (int c = 0; c < 8; ++c) {
-      const Point& p = mesh.x[mesh.conn[e][c]];
-      double v[3][3], len[3];
-      for (int k = 0; k < 3; ++k) {
-        const Point& q = mesh.x[mesh.conn[e][corner_edges[c][k]]];
-        for (int d = 0; d < 3; ++d) v[k][d] = q[d] - p[d];
-        len[k] = std::sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
-      }
-      const double det = v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[2][1]) -
-                         v[0][1] * (v[1][0] * v[2][2] - v[1][2] * v[2][0]) +
-                         v[0][2] * (v[1][0] * v[2][1] - v[1][1] * v[2][0]);
-      const double denom = len[0] * len[1] * len[2];
-      worst = std::min(worst, denom > 0 ? det / denom : -1.0);
+  std::array<double, 8> out;
+  for (int c = 0; c < 8; ++c) {
+    const Point& p = mesh.x[corners[c]];
+    double v[3][3], len[3];
+    for (int k = 0; k < 3; ++k) {
+      const Point& q = mesh.x[corners[corner_edges[c][k]]];
+      for (int d = 0; d < 3; ++d) v[k][d] = q[d] - p[d];
+      len[k] = std::sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
     }
-    out[e] = worst;
+    const double det = v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[2][1]) -
+                       v[0][1] * (v[1][0] * v[2][2] - v[1][2] * v[2][0]) +
+                       v[0][2] * (v[1][0] * v[2][1] - v[1][1] * v[2][0]);
+    const double denom = len[0] * len[1] * len[2];
+    out[c] = denom > 0 ? det / denom : 0.0;  // a zero-length edge: no volume at this corner
   }
   return out;
+}
+
+std::vector<double> scaled_jacobians(const Mesh& mesh) {
+  std::vector<double> out(mesh.conn.size());
+  for (int e = 0; e < mesh.n_elements(); ++e) {
+    const auto q = corner_scaled_jacobians(mesh, mesh.conn[e]);
+    out[e] = std::min(1.0, *std::min_element(q.begin(), q.end()));
+  }
+  return out;
+}
+
+namespace {
+
+Point minus(const Point& a, const Point& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point cross(const Point& a, const Point& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot3(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// A quadrilateral whose edges cross (a bow-tie): two neighbouring corners turn one way and the
+// other two the other way. A concave (dart) quadrilateral has one corner against three instead.
+bool is_bow_tie(const Mesh& mesh, const std::array<int, 8>& corners, int face) {
+  Point p[4];
+  for (int k = 0; k < 4; ++k) p[k] = mesh.x[corners[hex8_face_nodes[face][k]]];
+  Point turn[4];
+  for (int k = 0; k < 4; ++k)
+    turn[k] = cross(minus(p[(k + 1) % 4], p[k]), minus(p[(k + 3) % 4], p[k]));
+  int against = 0;
+  for (int k = 1; k < 4; ++k) against += dot3(turn[k], turn[0]) < 0 ? 1 : 0;
+  return against == 2;
+}
+
+}  // namespace
+
+ElementCheck check_element(const Mesh& mesh, const std::array<int, 8>& corners) {
+  const auto q = corner_scaled_jacobians(mesh, corners);
+  ElementCheck r;
+  r.corner = static_cast<int>(std::min_element(q.begin(), q.end()) - q.begin());
+  r.value = q[r.corner];
+  int positive = 0, negative = 0;
+  for (int c = 0; c < 8; ++c) {
+    // Written so that a NaN corner counts as degenerate.
+    if (!(std::abs(q[c]) > kDegenerateJacobian)) {
+      r.shape = ElementShape::Degenerate;
+      r.corner = c;
+      r.value = q[c];
+      return r;
+    }
+    (q[c] > 0 ? positive : negative) += 1;
+  }
+  if (positive == 8) return r;
+  if (negative == 8) {
+    r.shape = ElementShape::Mirrored;
+    return r;
+  }
+  r.shape = ElementShape::Inverted;
+  for (int f = 0; f < 6; ++f)
+    if (is_bow_tie(mesh, corners, f)) r.shape = ElementShape::Folded;
+  return r;
+}
+
+const char* shape_name(ElementShape shape) {
+  switch (shape) {
+    case ElementShape::Valid:
+      return "valid";
+    case ElementShape::Mirrored:
+      return "mirrored";
+    case ElementShape::Degenerate:
+      return "degenerate";
+    case ElementShape::Folded:
+      return "folded";
+    case ElementShape::Inverted:
+      return "inverted";
+  }
+  return "?";
+}
+
+std::array<int, 8> reorient(std::array<int, 8> corners) {
+  std::swap(corners[1], corners[3]);
+  std::swap(corners[5], corners[7]);
+  return corners;
+}
+
+unsigned long long available_memory() {
+  unsigned long long available = 0;
+  std::ifstream meminfo("/proc/meminfo");
+  for (std::string key; meminfo >> key;) {
+    unsigned long long kib = 0;
+    meminfo >> kib;
+    if (key == "MemAvailable:") {
+      available = kib * 1024;
+      break;
+    }
+    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  // A container's limit (cgroup v2) can be far below the machine's memory.
+  unsigned long long limit = 0, used = 0;
+  std::ifstream max_in("/sys/fs/cgroup/memory.max"), current_in("/sys/fs/cgroup/memory.current");
+  if (max_in >> limit && current_in >> used) {
+    const unsigned long long room = limit > used ? limit - used : 0;
+    available = available ? std::min(available, room) : room;
+  }
+  return available;
+}
+
+std::string memory_shortfall(long long nodes) {
+  const unsigned long long available = available_memory();
+  const double needed = kRunBytesPerNode * static_cast<double>(nodes);
+  if (available == 0 || needed <= static_cast<double>(available)) return "";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1) << nodes << " nodes need at least " << needed / 1e9
+    << " GB (" << std::setprecision(0) << kRunBytesPerNode << " bytes per node), more than the "
+    << std::setprecision(1) << available / 1e9 << " GB of memory available";
+  return s.str();
 }
 
 DofMap make_dof_map(const Mesh& mesh, int n_components) {
@@ -302,16 +416,6 @@ Vector Constraints::values() const {
   Kokkos::deep_copy(d, h);
   return d;
 }
-
-namespace {
-
-Point cross(const Point& a, const Point& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
-double dot3(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-}  // namespace
 
 int position_in_sorted(const std::vector<int>& sorted, int node) {
   const auto it = std::lower_bound(sorted.begin(), sorted.end(), node);

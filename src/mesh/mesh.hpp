@@ -77,7 +77,7 @@ std::array<double, 3> hex8_reference_coordinates(const Mesh& mesh, int e, const 
 // The trilinear shape functions (VTK corner order) at reference point xi.
 std::array<double, 8> hex8_shape_values(const std::array<double, 3>& xi);
 // jac[c][d] = dx_c/dxi_d of the trilinear map through these corner nodes (VTK order) at xi; the
-// corners need not be an element of the mesh yet (the Gmsh reader orients cells with it).
+// corners need not be an element of the mesh yet.
 void hex8_jacobian(const Mesh& mesh, const std::array<int, 8>& corners,
                    const std::array<double, 3>& xi, double jac[3][3]);
 
@@ -116,6 +116,39 @@ void add_union_set(Mesh& mesh, const std::vector<std::string>& sets, const std::
 // Scaled Jacobian of each element: min over the 8 corners of det[e1 e2 e3] / (|e1||e2||e3|) of
 // the corner's edge vectors; 1 for a cube, <= 0 for an inverted or degenerate element.
 std::vector<double> scaled_jacobians(const Mesh& mesh);
+// The scaled Jacobian at each corner of the hex8 through these nodes (VTK order), signed: 1 at a
+// cube's corners, negative at a corner where the element is turned inside out, 0 where an edge
+// has zero length.
+std::array<double, 8> corner_scaled_jacobians(const Mesh& mesh, const std::array<int, 8>& corners);
+
+// What the 8 corner scaled Jacobians say about a hex8: valid (all above kDegenerateJacobian);
+// mirrored (all below -kDegenerateJacobian: a valid element whose nodes are listed left-handed,
+// made valid by reorient()); degenerate (a corner within kDegenerateJacobian of zero, or not a
+// number); folded (signs differ and a face is a bow-tie: its edges cross); inverted (signs differ
+// otherwise, e.g. a node moved inside the element).
+enum class ElementShape { Valid, Mirrored, Degenerate, Folded, Inverted };
+constexpr double kDegenerateJacobian = 1e-8;
+struct ElementCheck {
+  ElementShape shape = ElementShape::Valid;
+  int corner = 0;    // the worst corner (0..7)
+  double value = 1;  // its scaled Jacobian
+};
+ElementCheck check_element(const Mesh& mesh, const std::array<int, 8>& corners);
+const char* shape_name(ElementShape shape);
+// The same element listed right-handed: mirrors the node order through the plane of nodes 0, 2,
+// 4, 6 (swaps 1 with 3 and 5 with 7), which turns every corner Jacobian's sign.
+std::array<int, 8> reorient(std::array<int, 8> corners);
+
+// Memory (bytes) this process can have now: the system's MemAvailable, lowered to the room left
+// under a cgroup memory limit; 0 when neither can be read.
+unsigned long long available_memory();
+// The least memory a run needs per mesh node (bytes): the mesh, one scalar field's state, its
+// stored tangent and matrices. The cheapest run, scalar transport alone on a box, peaks at
+// 2.2-2.3 kB per node (51k and 202k nodes, one thread); the fluid and structure need more.
+constexpr double kRunBytesPerNode = 2000;
+// Empty when a mesh of `nodes` nodes fits in available_memory() at kRunBytesPerNode, otherwise
+// why not, with the numbers: "N nodes need at least X GB, more than the Y GB available".
+std::string memory_shortfall(long long nodes);
 
 // Area-weighted nodal normals of a face set, pointing out of the faces' elements, for the nodes of
 // node_sets[set] in that order.

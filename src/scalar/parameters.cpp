@@ -84,19 +84,30 @@ ScalarSection read_scalar_section(const MapView& fields, const MeshNames& names,
   if (!bcs || bcs->IsNull()) return section;
   const std::string key = s.key("boundary_conditions");
   if (!bcs->IsSequence()) c.wrong_type(*bcs, key, "a list of boundary conditions");
-  for (size_t i = 0; i < bcs->size(); ++i)
-    section.boundary_conditions.push_back(
-        read_boundary_condition(c, (*bcs)[i], index_key(key, i), names.face_sets));
+  OneConditionPerBoundary once("scalar");
+  for (size_t i = 0; i < bcs->size(); ++i) {
+    const std::string ikey = index_key(key, i);
+    const Node item = (*bcs)[i];
+    section.boundary_conditions.push_back(read_boundary_condition(c, item, ikey, names.face_sets));
+    once.claim(c, item["boundary"], child_key(ikey, "boundary"),
+               section.boundary_conditions.back().boundary);
+  }
   return section;
 }
 
 std::vector<ScalarBoundaryCondition> scalar_boundary_conditions(const ScalarSection& section) {
   std::vector<ScalarBoundaryCondition> out;
-  for (const auto& bc : section.boundary_conditions) {
+  for (size_t i = 0; i < section.boundary_conditions.size(); ++i) {
+    const ScalarBcSpec& bc = section.boundary_conditions[i];
+    const char* name = bc.kind == ScalarBcKind::Dirichlet ? "value"
+                       : bc.kind == ScalarBcKind::Flux    ? "flux"
+                                                          : "ambient";
     ScalarBoundaryCondition c;
     c.set = bc.boundary;
     c.kind = bc.kind;
-    c.value = space_time_function(bc.value);
+    c.value = space_time_function(
+        bc.value, child_key(index_key("fields.scalar.boundary_conditions", i), name) + " (line " +
+                      std::to_string(bc.line) + ")");
     c.coefficient = bc.coefficient;
     out.push_back(std::move(c));
   }

@@ -87,20 +87,26 @@ StructureSection read_structure_section(const MapView& fields, const MeshNames& 
 
 std::array<SpaceTimeFunction, 3> structure_body_force(const StructureSection& section) {
   std::array<SpaceTimeFunction, 3> out;
-  for (int d = 0; d < 3; ++d) out[d] = space_time_function(section.body_force->at(d));
+  for (int d = 0; d < 3; ++d)
+    out[d] = space_time_function(section.body_force->at(d),
+                                 "fields.structure.body_force[" + std::to_string(d) + "]");
   return out;
 }
 
 std::vector<StructureDirichlet> structure_boundary_conditions(const StructureSection& section) {
   std::vector<StructureDirichlet> out;
-  for (const auto& bc : section.boundary_conditions) {
+  for (size_t i = 0; i < section.boundary_conditions.size(); ++i) {
+    const StructureBcSpec& bc = section.boundary_conditions[i];
     StructureDirichlet d;
     d.set = bc.boundary;
+    const std::string value =
+        child_key(index_key("fields.structure.boundary_conditions", i), "value");
     for (int c = 0; c < 3; ++c)
       if (bc.fixed)
         d.value[c] = [](const Point&, double) { return 0.0; };
       else if (bc.value[c] != "free")
-        d.value[c] = space_time_function(bc.value[c]);
+        d.value[c] = space_time_function(
+            bc.value[c], index_key(value, c) + " (line " + std::to_string(bc.line) + ")");
     out.push_back(std::move(d));
   }
   return out;

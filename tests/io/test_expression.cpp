@@ -112,5 +112,24 @@ TEST(Expression, RejectsSeveralCommaSeparatedValues) {
   EXPECT_NE(message_of("0,5").find("comma"), std::string::npos);
 }
 
+// A value that is not finite throws where it is met, naming the key, the expression, the point
+// and the time; finite values of the same expression pass through unchanged.
+TEST(SpaceTimeFunction, ThrowsNamingKeyExpressionPointAndTimeForANonFiniteValue) {
+  const auto f = space_time_function("1/(t-2)", "fields.scalar.boundary_conditions[0].value");
+  EXPECT_EQ(f({0.5, 1, 0}, 1.0), -1.0);
+  try {
+    f({0.5, 1, 0}, 2.0);
+    FAIL() << "no error at t = 2";
+  } catch (const NonFiniteExpression& e) {
+    EXPECT_STREQ(e.what(),
+                 "fields.scalar.boundary_conditions[0].value: '1/(t-2)' is infinite at (x, y, z) "
+                 "= (0.5, 1, 0), t = 2; expected an expression that is finite wherever it applies");
+  }
+  for (const char* text : {"sqrt(-1)", "1/(x-x)", "0/0", "10^400", "1/0"})
+    EXPECT_THROW(space_time_function(text, "fields.scalar.initial")({0, 0, 0}, 0.0),
+                 NonFiniteExpression)
+        << text;
+}
+
 }  // namespace
 }  // namespace biofsi

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -134,7 +136,7 @@ TEST_F(XdmfOutput, RefusesToOverwriteAnExistingIndexUnlessAsked) {
   try {
     XdmfWriter again(dir_.string(), "run", false);
     FAIL() << "a second writer replaced an existing index";
-  } catch (const std::runtime_error& e) {
+  } catch (const std::invalid_argument& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find((dir_ / "run.xdmf").string()), std::string::npos) << m;
     EXPECT_NE(m.find("--overwrite"), std::string::npos) << m;
@@ -176,6 +178,76 @@ TEST_F(XdmfOutput, RejectsFieldsOfTheWrongSize) {
   f[0].values.pop_back();
   EXPECT_THROW(w.write(0, 0.0, mesh_, f), std::invalid_argument);
   EXPECT_FALSE(fs::exists(h5(0)));
+}
+
+// What `body` writes to file descriptor 2 (HDF5 prints there, past std::cerr).
+template <class Body>
+std::string stderr_of(const Body& body) {
+  const std::string path = testing::TempDir() + "stderr_" + std::to_string(getpid());
+  std::fflush(stderr);
+  const int saved = dup(2);
+  FILE* sink = std::fopen(path.c_str(), "w");
+  dup2(fileno(sink), 2);
+  body();
+  std::fflush(stderr);
+  dup2(saved, 2);
+  close(saved);
+  std::fclose(sink);
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The expected message of a write into /dev/full: the file, what failed, the system's reason.
+void expect_full_disk(const std::function<void()>& write, const std::string& file) {
+  const std::string printed = stderr_of([&] {
+    try {
+      write();
+      ADD_FAILURE() << "the write to /dev/full succeeded";
+    } catch (const OutputError& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind(file + ": ", 0), 0u) << m;
+      EXPECT_NE(m.find("No space left on device"), std::string::npos) << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos) << m;  // one line
+    }
+  });
+  EXPECT_EQ(printed, "");  // HDF5's own error printing is off
+}
+
+// A full disk (a temporary file that is a link to /dev/full) stops every kind of write with
+// OutputError naming the file and the system's reason, and leaves no temporary file.
+TEST_F(XdmfOutput, AFullDiskStopsEachWriteNamingTheFileAndTheReason) {
+  fs::create_directories(dir_);
+  XdmfWriter w(dir_.string(), "run", false);
+  fs::create_symlink("/dev/full", h5(0) + ".tmp");
+  expect_full_disk([&] { w.write(0, 0.0, mesh_, fields(0)); }, h5(0));
+  EXPECT_FALSE(fs::exists(h5(0)));
+  EXPECT_FALSE(fs::is_symlink(h5(0) + ".tmp"));
+
+  fs::create_symlink("/dev/full", (dir_ / "run.xdmf.tmp").string());
+  expect_full_disk([&] { w.write(1, 0.0, mesh_, fields(1)); }, (dir_ / "run.xdmf").string());
+
+  const std::string checkpoint = (dir_ / "checkpoint_000001.h5").string();
+  fs::create_symlink("/dev/full", checkpoint + ".tmp");
+  expect_full_disk([&] { write_h5_datasets(checkpoint, {{"phi", {1.0, 2.0}}}); }, checkpoint);
+
+  const std::string summary = (dir_ / "summary.txt").string();
+  fs::create_symlink("/dev/full", summary + ".tmp");
+  expect_full_disk([&] { write_text_file(summary, "summary\n"); }, summary);
+  EXPECT_FALSE(fs::exists(summary));
+
+  expect_full_disk([&] { TextLog("/dev/full").append("step,time\n"); }, "/dev/full");
+}
+
+TEST_F(XdmfOutput, AnOutputDirectoryThatCannotBeMadeIsAnOutputError) {
+  try {
+    XdmfWriter w("/dev/full/results", "run", false);
+    FAIL() << "created";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(
+        std::string(e.what()).rfind("/dev/full/results: cannot create the output directory: ", 0),
+        0u)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -434,6 +434,39 @@ TEST_F(SceneFile, ReportsAMissingFile) {
   EXPECT_THROW(load_scene(dir_.string()), SceneError);
 }
 
+// A path that is not a regular file (it could be read forever) and a file too large to be a scene
+// are refused before anything is parsed, with the size they have.
+TEST_F(SceneFile, RefusesDevicesAndFilesLargerThanTheLimit) {
+  try {
+    load_scene("/dev/zero");
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "/dev/zero: cannot read the scene file: not a regular file");
+  }
+  const std::string big = write("big.yaml", kMinimal);
+  std::ofstream(big, std::ios::app) << std::string(kMaxSceneBytes, '#');
+  try {
+    load_scene(big);
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_TRUE(contains(e.what(), big + ": the scene file is larger than 16777216 bytes (" +
+                                       std::to_string(fs::file_size(big)) + ")"))
+        << e.what();
+  }
+}
+
+// A box larger than memory is refused when the scene is read, with the node count it asked for
+// (1.2e9 nodes of at least 2 kB each: more than any machine these tests run on).
+TEST(Scene, RefusesABoxMeshThatDoesNotFitInMemory) {
+  const std::string m = error_of(kMinimal, {"mesh.nx=20000", "mesh.nz=20000"});
+  EXPECT_TRUE(contains(m, "mesh: the mesh does not fit in memory: 1200120003 nodes need at least"))
+      << m;
+  EXPECT_TRUE(contains(m, "got '1200120003 nodes'")) << m;
+  // The issue's nx = 1e8 (written as an integer; 1e8 itself is not one).
+  EXPECT_TRUE(contains(error_of(kMinimal, {"mesh.nx=100000000"}), "got '600000006 nodes'"));
+  EXPECT_TRUE(contains(error_of(kMinimal, {"mesh.nx=1e8"}), "not an integer"));
+}
+
 // A Gmsh mesh: the file is found next to the scene, read during validation, and its block and set
 // names are what the rest of the scene is checked against.
 TEST_F(SceneFile, ReadsAGmshMeshRelativeToTheSceneFile) {
@@ -493,7 +526,7 @@ TEST_F(SceneFile, ReadsAGmshMeshRelativeToTheSceneFile) {
   EXPECT_EQ(solid.block_names, std::vector<std::string>{"solid"});
   EXPECT_TRUE(solid.face_sets.count("solid_clamp"));
   EXPECT_FALSE(solid.face_sets.count("inflow"));
-  EXPECT_LT(solid.n_elements(), make_scene_mesh(flag, false).n_elements());
+  EXPECT_LT(solid.n_elements(), make_scene_mesh(flag, nullptr, false).n_elements());
 }
 
 // The fluid section: every key read, the scalar then convected by the fluid (no velocity key).
@@ -571,6 +604,26 @@ TEST(Scene, RejectsBadFluidInput) {
   const std::string both = replaced(kFull, "fields:\n", "fields:\n" + kFluid);
   expect_error(both, line_of(both, "velocity: [\"0.1"), "fields.scalar.velocity", "",
                "no velocity key: the scalar is convected by the fluid's velocity");
+}
+
+// Two conditions of one field on one boundary: refused at the second, naming the first (which of
+// them held was not what the scene said).
+TEST(Scene, RejectsTwoConditionsOfAFieldOnOneBoundary) {
+  const std::string twice =
+      replaced(kFull, "      - {boundary: left, type: neumann, flux: \"0\"}\n",
+               "      - {boundary: top, type: dirichlet, value: \"1\"}\n");
+  expect_error(twice, line_of(twice, "value: \"1\"}"),
+               "fields.scalar.boundary_conditions[1].boundary", "top",
+               "each boundary once in a field's boundary_conditions");
+  EXPECT_TRUE(
+      contains(error_of(twice), "(the first is fields.scalar.boundary_conditions[0].boundary)"))
+      << error_of(twice);
+  const std::string good = with_fluid(kFull);
+  const std::string fluid_twice =
+      replaced(good, "{boundary: top, type: slip}", "{boundary: left, type: no_slip}");
+  expect_error(fluid_twice, line_of(fluid_twice, "{boundary: left, type: no_slip}"),
+               "fields.fluid.boundary_conditions[2].boundary", "left",
+               "each boundary once in a field's boundary_conditions");
 }
 
 TEST(SceneOverrides, ChangeValuesIncludingListEntries) {

@@ -4,9 +4,11 @@
 // exactly.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "mesh/gmsh.hpp"
 
@@ -71,6 +73,43 @@ std::string write_file(const std::string& name, const std::string& text) {
   const std::string path = testing::TempDir() + name;
   std::ofstream(path) << text;
   return path;
+}
+
+// The unit cube's corners in VTK order.
+const std::array<Point, 8> kCube = {
+    {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}};
+
+// A MSH 4.1 file of one hexahedron (element tag 7, block "solid") through nodes 1-8 at `x`, listed
+// in the order `order` (node tags, VTK order for a right-handed element).
+std::string one_hex(const std::array<Point, 8>& x,
+                    const std::array<int, 8>& order = {1, 2, 3, 4, 5, 6, 7, 8}) {
+  std::ostringstream s;
+  s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"solid\"\n"
+    << "$EndPhysicalNames\n$Entities\n0 0 0 1\n1 0 0 0 1 1 1 1 1 0\n$EndEntities\n"
+    << "$Nodes\n1 8 1 8\n3 1 0 8\n";
+  for (int n = 1; n <= 8; ++n) s << n << "\n";
+  for (const Point& p : x) s << p[0] << " " << p[1] << " " << p[2] << "\n";
+  s << "$EndNodes\n$Elements\n1 1 1 7\n3 1 5 1\n7";
+  for (int n : order) s << " " << n;
+  s << "\n$EndElements\n";
+  return s.str();
+}
+
+// read_gmsh's message for a file with this text, or "no error".
+std::string error_reading(const std::string& name, const std::string& text) {
+  try {
+    read_gmsh(write_file(name, text));
+  } catch (const MeshFileError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// `text` with the single occurrence of `from` replaced by `to`.
+std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
+  const size_t p = text.find(from);
+  EXPECT_NE(p, std::string::npos) << from;
+  return p == std::string::npos ? text : text.substr(0, p) + to + text.substr(p + from.size());
 }
 
 }  // namespace
@@ -182,4 +221,82 @@ TEST(Gmsh, BadFilesStopWithFileLineAndWhatWasExpected) {
             std::string::npos);
   EXPECT_THROW(submesh(read_gmsh(mesh_dir + "/unit_cube_hex.msh"), {"nope"}),
                std::invalid_argument);
+}
+
+// Counts and tags are checked before anything is allocated for them: each of these once crashed
+// the reader (std::out_of_range, std::length_error, std::bad_alloc).
+TEST(Gmsh, MalformedCountsAndTagsStopWithTheLine) {
+  const std::string good = one_hex(kCube);
+  EXPECT_EQ(error_reading("good.msh", good), "no error");
+  auto expect = [&](const std::string& name, const std::string& text, const std::string& part) {
+    const std::string m = error_reading(name, text);
+    EXPECT_NE(m.find(testing::TempDir() + name + ":"), std::string::npos) << m;
+    EXPECT_NE(m.find(part), std::string::npos) << m;
+  };
+  expect("missing_node.msh", replaced(good, "7 1 2 3 4 5 6 7 8", "7 1 2 3 4 5 6 7 99"),
+         ":35: element 7 uses node 99, which $Nodes does not define");
+  expect("negative_nodes.msh", replaced(good, "$Nodes\n1 8 1 8", "$Nodes\n1 -8 1 8"),
+         "negative number of nodes (-8)");
+  expect("negative_block.msh", replaced(good, "3 1 0 8", "3 1 0 -8"),
+         "negative number of nodes (-8)");
+  expect("negative_elements.msh", replaced(good, "3 1 5 1", "3 1 5 -1"),
+         "negative number of elements (-1)");
+  expect("negative_physicals.msh", replaced(good, "1 0 0 0 1 1 1 1 1 0", "1 0 0 0 1 1 1 -1 1 0"),
+         "negative number of physical tags (-1)");
+  expect("negative_names.msh", replaced(good, "$PhysicalNames\n1", "$PhysicalNames\n-1"),
+         "negative number of physical names (-1)");
+  expect("huge_block.msh",
+         replaced(replaced(good, "$Nodes\n1 8 1 8", "$Nodes\n1 1000000000000000 1 8"), "3 1 0 8",
+                  "3 1 0 1000000000000000"),
+         "1000000000000000 nodes announced, but the rest of the file");
+  expect("huge_elements.msh", replaced(good, "3 1 5 1", "3 1 5 1000000000000000"),
+         "1000000000000000 elements announced");
+  expect("twice.msh", replaced(good, "1\n2\n3\n", "1\n1\n3\n"), "node 1 is defined twice");
+  expect("point_in_a_line.msh", replaced(good, "3 1 5 1", "1 1 15 1"),
+         "element type 15 in a 1-D entity");
+  // A device that never ends is refused before it is read.
+  try {
+    read_gmsh("/dev/zero");
+    ADD_FAILURE() << "/dev/zero was read";
+  } catch (const MeshFileError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("/dev/zero: cannot open the mesh file: not a regular file"),
+        std::string::npos)
+        << e.what();
+  }
+}
+
+// Every element is checked at its 8 corners: a node moved inside the element, a bow-tie face and
+// a flat element are refused, naming the element's tag, its block and the scaled Jacobian.
+TEST(Gmsh, RejectsInvertedFoldedAndDegenerateElements) {
+  auto expect = [](const std::string& name, const std::string& text, const std::string& shape) {
+    const std::string m = error_reading(name, text);
+    EXPECT_NE(m.find("element 7 of block 'solid' is " + shape + ": scaled Jacobian -"),
+              std::string::npos)
+        << m;
+  };
+  std::array<Point, 8> inside = kCube;
+  inside[6] = {0.3, 0.3, 0.3};  // the far corner pushed inside: its corner Jacobian is negative
+  expect("inverted.msh", one_hex(inside), "inverted");
+  expect("folded.msh", one_hex(kCube, {1, 2, 4, 3, 5, 6, 8, 7}), "folded");
+  std::array<Point, 8> flat = kCube;
+  for (int n = 4; n < 8; ++n) flat[n][2] = 0;
+  const std::string m = error_reading("flat.msh", one_hex(flat));
+  EXPECT_NE(m.find("element 7 of block 'solid' is degenerate: scaled Jacobian 0"),
+            std::string::npos)
+      << m;
+}
+
+// A hexahedron listed left-handed at all 8 corners is a valid element mirrored: it is re-oriented
+// (positive volume) and counted.
+TEST(Gmsh, ReorientsAConsistentlyMirroredElementAndCountsIt) {
+  int reoriented = -1;
+  const Mesh m = read_gmsh(write_file("mirrored.msh", one_hex(kCube, {1, 4, 3, 2, 5, 8, 7, 6})), 0,
+                           &reoriented);
+  EXPECT_EQ(reoriented, 1);
+  ASSERT_EQ(m.n_elements(), 1);
+  EXPECT_NEAR(hex_volume(m, 0), 1.0, 1e-14);
+  EXPECT_EQ(scaled_jacobians(m)[0], 1.0);
+  read_gmsh(mesh_dir + "/unit_cube_hex.msh", 0, &reoriented);
+  EXPECT_EQ(reoriented, 0);
 }
