@@ -92,6 +92,8 @@ class Driver {
       // Built on the mesh as the scene gives it, as in the uninterrupted run.
       motion_ = std::make_unique<MeshMotion>(sim_.mesh, scene.growth.settings.mesh_motion);
       if (!options.restart.empty()) first_growth_step_ = read_checkpoint(options.restart);
+    } else if (!options.restart.empty()) {
+      first_flow_step_ = read_flow_checkpoint(options.restart);
     }
     prepare_output(out, options.overwrite, options.restart);
     writer_.emplace(out.string(), "scalar", options.overwrite);
@@ -99,11 +101,14 @@ class Driver {
   }
 
   // A flow run (no scalar field, no growth): the steady flow, or the time stages of it.
+  // A transient one writes checkpoint_NNNNNN.h5 (NNNNNN: the step) with every output step, and
+  // continues from one with --restart.
   int run_flow() {
-    write(0, 0.0, {});
-    series_.record(0, sim_.time());
-    int step =
-        0;  // the step being taken: a failed one writes the last valid state under its number
+    const int first = first_flow_step_;
+    write(first, sim_.time(), {});
+    series_.record(first, sim_.time());
+    int step = first;  // the step being taken: a failed one writes the last valid state under its
+                       // number
     try {
       if (!sim_.flow_is_transient()) {
         solve_steady_flow("steady flow");
@@ -112,14 +117,18 @@ class Driver {
         series_.record(step, sim_.time());
       } else {
         Progress progress(scene_.time.steps);
-        step = 1;
+        step = first + 1;
         const InnerLoopResult r = inner_loop(
             "", [&](int i, double change) { progress.update(i, sim_.time(), change); },
             [&](int i) {
               step = i + 1;
               series_.record(i, sim_.time());
-              if (i % scene_.output.every == 0 || i == scene_.time.steps) write(i, sim_.time(), {});
-            });
+              if (i % scene_.output.every == 0 || i == scene_.time.steps) {
+                write(i, sim_.time(), {});
+                write_checkpoint(i, flow_checkpoint_data(i));
+              }
+            },
+            first);
         progress.done();
         step = r.steps;
       }
@@ -219,7 +228,7 @@ class Driver {
                     << (r.stationary ? "stationary" : "not stationary") << ", change " << r.change
                     << "), interface moved max " << rep.max_interface_displacement << " mm, mesh "
                     << "quality " << format_range(rep.quality, sim_.mesh) << "\n";
-        if (g.checkpoint) write_checkpoint(k + 1);
+        if (g.checkpoint) write_checkpoint(k + 1, growth_checkpoint_data(k + 1));
       }
     } catch (const SolveError& e) {
       return failed(e, k, k * gs.dt_bio);
@@ -256,14 +265,21 @@ class Driver {
   // The one inner loop of every transient run: each step the transient flow (coupled with the
   // structure where there is one), then the transport where it runs, over the time stages; stops
   // early when the change of every state falls below time.steady_tolerance.
+  // Steps up to `done` were taken by the run a restart continues: the loop goes on after them, in
+  // the stage they end in.
   template <class OnStep, class AfterStep>
-  InnerLoopResult inner_loop(const std::string& prefix, OnStep on_step, AfterStep after_step) {
+  InnerLoopResult inner_loop(const std::string& prefix, OnStep on_step, AfterStep after_step,
+                             int done = 0) {
     InnerLoopResult r;
     std::vector<std::vector<double>> previous = sim_.inner_states();
     for (const TimeSpec::Stage& stage : scene_.time.stages) {
       if (sim_.flow_is_transient()) sim_.set_theta(stage.theta);
       for (int s = 1; s <= stage.steps; ++s) {
         const int i = r.steps + 1;
+        if (i <= done) {
+          r.steps = i;
+          continue;
+        }
         std::ostringstream label;
         label << prefix << "inner step " << i << " (t = " << sim_.time() + stage.dt << ")";
         if (sim_.flow_is_transient()) advance_flow(label.str(), stage.dt);
@@ -335,28 +351,51 @@ class Driver {
     writer_->write(step, time, sim_.output_mesh(), sim_.output_fields(std::move(extra)));
   }
 
-  void write_checkpoint(int growth_steps_done) {
+  using Datasets = std::vector<std::pair<std::string, std::vector<double>>>;
+
+  void write_checkpoint(int index, const Datasets& data) {
     char name[32];
-    std::snprintf(name, sizeof name, "checkpoint_%06d.h5", growth_steps_done);
-    std::vector<double> xyz;
-    for (const auto& p : sim_.mesh.x) xyz.insert(xyz.end(), p.begin(), p.end());
-    std::vector<std::pair<std::string, std::vector<double>>> data = {
-        {"coordinates", xyz},
-        {"phi", sim_.scalar.solution_host()},
-        {"growth_step", {static_cast<double>(growth_steps_done)}},
-        {"time", {sim_.scalar.time()}}};
+    std::snprintf(name, sizeof name, "checkpoint_%06d.h5", index);
+    write_h5_datasets((out_ / name).string(), data);
+  }
+
+  static std::vector<double> flat(const std::vector<Point>& v) {
+    std::vector<double> out;
+    for (const auto& p : v) out.insert(out.end(), p.begin(), p.end());
+    return out;
+  }
+
+  // The flow's and the structure's state: the fluid's (u, p), the structure's displacement and
+  // velocity, the fluid mesh's displacement and, for a transient continuation, its velocity.
+  Datasets flow_state() const {
+    Datasets data;
     if (sim_.fluid) data.push_back({"fluid", sim_.fluid->solution_host()});
-    if (sim_.fsi) {
-      auto flat = [](const std::vector<Point>& v) {
-        std::vector<double> out;
-        for (const auto& p : v) out.insert(out.end(), p.begin(), p.end());
-        return out;
-      };
+    if (sim_.structure) {
       data.push_back({"structure_displacement", flat(sim_.structure->displacement())});
       data.push_back({"structure_velocity", flat(sim_.structure->velocity())});
-      data.push_back({"fluid_mesh_displacement", flat(sim_.fsi->mesh_displacement())});
     }
-    write_h5_datasets((out_ / name).string(), data);
+    if (sim_.fsi) {
+      data.push_back({"fluid_mesh_displacement", flat(sim_.fsi->mesh_displacement())});
+      data.push_back({"fluid_mesh_velocity", flat(sim_.fsi->grid_velocity())});
+    }
+    return data;
+  }
+
+  Datasets growth_checkpoint_data(int growth_steps_done) const {
+    Datasets data = {{"coordinates", flat(sim_.mesh.x)},
+                     {"phi", sim_.scalar.solution_host()},
+                     {"growth_step", {static_cast<double>(growth_steps_done)}},
+                     {"time", {sim_.scalar.time()}}};
+    for (auto& d : flow_state()) data.push_back(std::move(d));
+    return data;
+  }
+
+  Datasets flow_checkpoint_data(int step) const {
+    Datasets data = {{"coordinates", flat(sim_.mesh.x)},
+                     {"step", {static_cast<double>(step)}},
+                     {"time", {sim_.time()}}};
+    for (auto& d : flow_state()) data.push_back(std::move(d));
+    return data;
   }
 
   // A dataset of the restart file; one that cannot be read is bad input, named with --restart.
@@ -391,20 +430,10 @@ class Driver {
       sim_.fluid->set_solution(state);
       sim_.fluid->set_time(time[0]);
       if (sim_.fsi) {
-        auto points = [&](const char* name) {
-          const auto v = read_restart(path, name);
-          if (v.size() != 3 * sim_.mesh.x.size())
-            throw SceneError(path + ": the checkpoint has no '" + std::string(name) +
-                             "' for this mesh");
-          std::vector<Point> out(sim_.mesh.n_nodes());
-          for (int n = 0; n < sim_.mesh.n_nodes(); ++n)
-            out[n] = {v[3 * n], v[3 * n + 1], v[3 * n + 2]};
-          return out;
-        };
         sim_.fsi->set_reference(sim_.mesh);
-        sim_.structure->set_state(points("structure_displacement"), points("structure_velocity"),
-                                  time[0]);
-        sim_.fsi->set_mesh_displacement(points("fluid_mesh_displacement"));
+        sim_.structure->set_state(restart_points(path, "structure_displacement"),
+                                  restart_points(path, "structure_velocity"), time[0]);
+        sim_.fsi->set_mesh_displacement(restart_points(path, "fluid_mesh_displacement"));
         sim_.scalar.update_coordinates(sim_.fsi->current_mesh());
       } else {
         sim_.fluid->update_coordinates(sim_.mesh, 0.0);
@@ -418,6 +447,59 @@ class Driver {
     const int first = static_cast<int>(step[0]);
     std::cout << "restart: " << path << " (after growth step " << first << ", t = " << time[0]
               << " ms)\n";
+    return first;
+  }
+
+  // A node's three values of a restart dataset, checked against the mesh.
+  std::vector<Point> restart_points(const std::string& path, const char* name) const {
+    const auto v = read_restart(path, name);
+    if (v.size() != 3 * sim_.mesh.x.size())
+      throw SceneError(path + ": the checkpoint has no '" + std::string(name) +
+                       "' for this mesh (--restart " + path + ")");
+    std::vector<Point> out(sim_.mesh.n_nodes());
+    for (int n = 0; n < sim_.mesh.n_nodes(); ++n) out[n] = {v[3 * n], v[3 * n + 1], v[3 * n + 2]};
+    return out;
+  }
+
+  // Restores a transient flow run's state from its checkpoint (flow_checkpoint_data) on the
+  // scene's own mesh; returns the step it was taken after.
+  int read_flow_checkpoint(const std::string& path) {
+    if (scene_.scalar.enabled || !sim_.flow_is_transient())
+      throw SceneError("--restart " + path +
+                       ": the scene is neither a growth run nor a transient flow run; expected "
+                       "a scene whose steps a checkpoint can continue");
+    const auto step = read_restart(path, "step");
+    const auto time = read_restart(path, "time");
+    const std::vector<Point> x = restart_points(path, "coordinates");
+    double off = 0, size = 0;
+    for (int n = 0; n < sim_.mesh.n_nodes(); ++n)
+      for (int c = 0; c < 3; ++c) {
+        off = std::max(off, std::abs(x[n][c] - sim_.mesh.x[n][c]));
+        size = std::max(size, std::abs(sim_.mesh.x[n][c]));
+      }
+    if (step.size() != 1 || time.size() != 1 || !(off <= 1e-12 * size))
+      throw SceneError(path + ": not a checkpoint of a flow run on this scene's mesh (its nodes " +
+                       "lie up to " + std::to_string(off) + " from the scene's; --restart " + path +
+                       ")");
+    if (!(step[0] >= 1 && step[0] < scene_.time.steps))
+      throw SceneError(path + ": step " + std::to_string(step[0]) + " is outside the scene's 1.." +
+                       std::to_string(scene_.time.steps - 1) + " (--restart " + path + ")");
+    if (sim_.fluid) {
+      const auto state = read_restart(path, "fluid");
+      if (state.size() != 4 * sim_.mesh.x.size())
+        throw SceneError(path + ": the checkpoint has no fluid state for this mesh");
+      sim_.fluid->set_solution(state);
+      sim_.fluid->set_time(time[0]);
+    }
+    if (sim_.structure)
+      sim_.structure->set_state(restart_points(path, "structure_displacement"),
+                                restart_points(path, "structure_velocity"), time[0]);
+    if (sim_.fsi)
+      sim_.fsi->set_mesh_displacement(restart_points(path, "fluid_mesh_displacement"),
+                                      restart_points(path, "fluid_mesh_velocity"));
+    sim_.after_flow_solve("restart");
+    const int first = static_cast<int>(step[0]);
+    std::cout << "restart: " << path << " (after step " << first << ", t = " << time[0] << ")\n";
     return first;
   }
 
@@ -456,6 +538,8 @@ class Driver {
   Clock::time_point start_;
   bool tty_ = isatty(STDOUT_FILENO);
   int first_growth_step_ = 0;
+  int first_flow_step_ = 0;  // a restarted flow run's
+
   RunTotals totals_;
 };
 
@@ -466,9 +550,6 @@ int run_checked(const RunOptions& options) {
     throw SceneError(
         "--out '': an empty directory name; expected the directory to write the "
         "results to (or no --out: the scene's output.directory)");
-  if (!options.restart.empty() && !scene.growth.enabled)
-    throw SceneError("--restart " + options.restart +
-                     ": the scene has no growth section; expected a growth scene to continue");
   const std::filesystem::path out_dir = options.out_dir ? *options.out_dir : scene.output.directory;
   std::cout << "biofsi: scene " << scene.file << ", output " << out_dir.string() << "\n";
   print_active_fields(scene);

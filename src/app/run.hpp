@@ -23,7 +23,7 @@ struct RunOptions {
   std::optional<std::string> out_dir;  // absent: the scene's output.directory; empty: an error
   std::vector<std::string> overrides;  // --set key=value
   bool overwrite = false;
-  std::string restart;  // checkpoint file to continue from (growth scenes)
+  std::string restart;  // checkpoint file to continue from (growth and transient flow scenes)
 };
 
 // Runs a scene; returns the exit code. Nothing in the output directory is written or removed

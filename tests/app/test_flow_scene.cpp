@@ -137,3 +137,50 @@ TEST(FlowScene, StageThetaReachesTheFlow) {
   EXPECT_EQ(staged, implicit);
   EXPECT_GT(std::abs(staged - midpoint), 1e-6 * std::abs(midpoint));
 }
+
+// A transient flow run writes a checkpoint with every output step, and --restart from one
+// continues it: the restarted series repeats the uninterrupted one's rows from there on (the
+// fluid's state and time are all a step depends on), in its own output directory.
+TEST(FlowScene, RestartContinuesATransientFlowRun) {
+  const std::vector<std::string> transient = {"mesh.parameters.refine=1",
+                                              "fields.fluid.mode=transient", "time.dt=0.25",
+                                              "time.steps=4", "output.every=2"};
+  const fs::path full = fs::temp_directory_path() / "biofsi_app_flow_full";
+  RunOutput r = run_quietly(case_run("dfg/dfg_2d1.yaml", full, transient));
+  ASSERT_EQ(r.rc, 0) << r.err << r.out;
+  ASSERT_TRUE(fs::exists(full / "checkpoint_000002.h5"));
+  const fs::path resumed = fs::temp_directory_path() / "biofsi_app_flow_resumed";
+  RunOptions o = case_run("dfg/dfg_2d1.yaml", resumed, transient);
+  o.restart = (full / "checkpoint_000002.h5").string();
+  r = run_quietly(o);
+  ASSERT_EQ(r.rc, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("restart: "), std::string::npos) << r.out;
+  auto a = read_series(full / "series.csv"), b = read_series(resumed / "series.csv");
+  ASSERT_EQ(b["step"], (std::vector<double>{2, 3, 4}));
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(b["time"][k], a["time"][k + 2]);
+    EXPECT_NEAR(b["force_cylinder_x"][k], a["force_cylinder_x"][k + 2],
+                1e-10 * std::abs(a["force_cylinder_x"][k + 2]));
+  }
+  // The structure alone continues the same way (its displacement and velocity).
+  const std::vector<std::string> swing = {"mesh.parameters.refine=1", "time.steps=4",
+                                          "output.every=2"};
+  const fs::path flag = fs::temp_directory_path() / "biofsi_app_csm3_full";
+  ASSERT_EQ(run_quietly(case_run("turek_hron/csm3.yaml", flag, swing)).rc, 0);
+  const fs::path flag_resumed = fs::temp_directory_path() / "biofsi_app_csm3_resumed";
+  RunOptions f = case_run("turek_hron/csm3.yaml", flag_resumed, swing);
+  f.restart = (flag / "checkpoint_000002.h5").string();
+  r = run_quietly(f);
+  ASSERT_EQ(r.rc, 0) << r.err << r.out;
+  auto c = read_series(flag / "series.csv"), d = read_series(flag_resumed / "series.csv");
+  ASSERT_EQ(d["step"].size(), 3u);
+  EXPECT_NEAR(d["A_displacement_y"][2], c["A_displacement_y"][4],
+              1e-10 * std::abs(c["A_displacement_y"][4]));
+  // A checkpoint of another mesh is bad input, named.
+  RunOptions other = case_run("dfg/dfg_2d1.yaml", resumed, transient);
+  other.overwrite = true;
+  other.restart = (flag / "checkpoint_000002.h5").string();
+  r = run_quietly(other);
+  EXPECT_EQ(r.rc, 1);
+  EXPECT_NE(r.err.find("checkpoint_000002.h5"), std::string::npos) << r.err;
+}

@@ -16,6 +16,7 @@
 #include "app/run.hpp"
 #include "io/output.hpp"
 #include "io/scene.hpp"
+#include "scene_run.hpp"
 
 using namespace biofsi;
 namespace fs = std::filesystem;
@@ -43,11 +44,9 @@ std::vector<std::string> coarse(std::vector<std::string> more = {}) {
   return o;
 }
 
-struct Captured {
-  int rc;
-  std::string out, err;
-};
+using Captured = test::RunOutput;
 
+// A scene of the repository run into `out` (replacing what is there), streams captured.
 Captured run(const std::string& scene, const fs::path& out, const std::vector<std::string>& set,
              const std::string& restart = "") {
   RunOptions o;
@@ -56,13 +55,7 @@ Captured run(const std::string& scene, const fs::path& out, const std::vector<st
   o.overrides = set;
   o.overwrite = true;
   o.restart = restart;
-  std::ostringstream cout_text, cerr_text;
-  auto* old_out = std::cout.rdbuf(cout_text.rdbuf());
-  auto* old_err = std::cerr.rdbuf(cerr_text.rdbuf());
-  const int rc = run_scene(o);
-  std::cout.rdbuf(old_out);
-  std::cerr.rdbuf(old_err);
-  return {rc, cout_text.str(), cerr_text.str()};
+  return test::run_quietly(o);
 }
 
 std::string step_file(const fs::path& dir, int step) {
