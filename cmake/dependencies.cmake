@@ -36,12 +36,14 @@ if(NOT BIOFSI_KERNELS_ONLY)
     message(WARNING "biofsi: HDF5 at ${HDF5_INCLUDE_DIRS} is not the MPI build (libhdf5-openmpi-dev)")
   endif()
   # hypre for BoomerAMG, as the target biofsi::hypre. HYPRE_ROOT (variable or environment) wins;
-  # otherwise the build of flavour BIOFSI_HYPRE_FLAVOUR in the cache that scripts/setup fills;
-  # otherwise Debian's libhypre-dev, which has no OpenMP. Sets BIOFSI_HYPRE_VERSION,
+  # otherwise, with BIOFSI_HYPRE_FLAVOUR openmp or cuda, that build in the cache scripts/setup
+  # fills; otherwise Debian's libhypre-dev, which has no OpenMP. Sets BIOFSI_HYPRE_VERSION,
   # BIOFSI_HYPRE_LOCATION (a path, or "Debian libhypre-dev"), BIOFSI_HYPRE_OPENMP and
   # BIOFSI_HYPRE_CUDA (0 or 1) from the HYPRE_config.h found, for the version report.
-  set(BIOFSI_HYPRE_FLAVOUR "openmp" CACHE STRING
-      "which cached hypre build to use (openmp, cuda), or debian for Debian's libhypre-dev")
+  # Debian's is the default: on 2 threads the OpenMP build's BoomerAMG made the test suite's small
+  # problems up to 18x slower (docs/performance.md).
+  set(BIOFSI_HYPRE_FLAVOUR "debian" CACHE STRING
+      "debian (Debian's libhypre-dev), openmp (scripts/setup --hypre-openmp) or cuda")
   if(NOT DEFINED HYPRE_ROOT AND DEFINED ENV{HYPRE_ROOT})
     set(HYPRE_ROOT "$ENV{HYPRE_ROOT}")
   endif()
@@ -49,6 +51,10 @@ if(NOT BIOFSI_KERNELS_ONLY)
     set(_hypre_cached "${_biofsi_cache}/hypre-2.26.0-${BIOFSI_HYPRE_FLAVOUR}")
     if(EXISTS "${_hypre_cached}/include/HYPRE_config.h")
       set(HYPRE_ROOT "${_hypre_cached}")
+    else()
+      message(FATAL_ERROR "biofsi: BIOFSI_HYPRE_FLAVOUR=${BIOFSI_HYPRE_FLAVOUR} but ${_hypre_cached} "
+        "holds no hypre; build it with scripts/setup --hypre-${BIOFSI_HYPRE_FLAVOUR}, or configure "
+        "with -DBIOFSI_HYPRE_FLAVOUR=debian")
     endif()
   endif()
 
@@ -98,7 +104,7 @@ if(NOT BIOFSI_KERNELS_ONLY)
     message(STATUS
       "biofsi: hypre ${BIOFSI_HYPRE_VERSION} without OpenMP from ${BIOFSI_HYPRE_LOCATION}: "
       "BoomerAMG set-up and V-cycles run on one thread whatever OMP_NUM_THREADS says "
-      "(scripts/setup builds hypre with OpenMP into ${_biofsi_cache})")
+      "(hypre with OpenMP: scripts/setup --hypre-openmp, -DBIOFSI_HYPRE_FLAVOUR=openmp)")
   endif()
   if(BIOFSI_BUILD_BENCH)
     find_package(benchmark REQUIRED)
