@@ -106,7 +106,9 @@ class Driver {
   int run_flow() {
     const int first = first_flow_step_;
     write(first, sim_.time(), {});
-    series_.record(first, sim_.time());
+    // A restarted run's series continues after the checkpoint's step: the forces at that step are
+    // reactions of the step that led there, which the checkpoint does not hold.
+    if (first == 0) series_.record(0, sim_.time());
     int step = first;  // the step being taken: a failed one writes the last valid state under its
                        // number
     try {

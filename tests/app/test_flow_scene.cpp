@@ -139,7 +139,7 @@ TEST(FlowScene, StageThetaReachesTheFlow) {
 }
 
 // A transient flow run writes a checkpoint with every output step, and --restart from one
-// continues it: the restarted series repeats the uninterrupted one's rows from there on (the
+// continues it: the restarted series repeats the uninterrupted one's rows after that step (the
 // fluid's state and time are all a step depends on), in its own output directory.
 TEST(FlowScene, RestartContinuesATransientFlowRun) {
   const std::vector<std::string> transient = {"mesh.parameters.refine=1",
@@ -156,11 +156,11 @@ TEST(FlowScene, RestartContinuesATransientFlowRun) {
   ASSERT_EQ(r.rc, 0) << r.err << r.out;
   EXPECT_NE(r.out.find("restart: "), std::string::npos) << r.out;
   auto a = read_series(full / "series.csv"), b = read_series(resumed / "series.csv");
-  ASSERT_EQ(b["step"], (std::vector<double>{2, 3, 4}));
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_EQ(b["time"][k], a["time"][k + 2]);
-    EXPECT_NEAR(b["force_cylinder_x"][k], a["force_cylinder_x"][k + 2],
-                1e-10 * std::abs(a["force_cylinder_x"][k + 2]));
+  ASSERT_EQ(b["step"], (std::vector<double>{3, 4}));
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(b["time"][k], a["time"][k + 3]);
+    EXPECT_NEAR(b["force_cylinder_x"][k], a["force_cylinder_x"][k + 3],
+                1e-10 * std::abs(a["force_cylinder_x"][k + 3]));
   }
   // The structure alone continues the same way (its displacement and velocity).
   const std::vector<std::string> swing = {"mesh.parameters.refine=1", "time.steps=4",
@@ -173,8 +173,8 @@ TEST(FlowScene, RestartContinuesATransientFlowRun) {
   r = run_quietly(f);
   ASSERT_EQ(r.rc, 0) << r.err << r.out;
   auto c = read_series(flag / "series.csv"), d = read_series(flag_resumed / "series.csv");
-  ASSERT_EQ(d["step"].size(), 3u);
-  EXPECT_NEAR(d["A_displacement_y"][2], c["A_displacement_y"][4],
+  ASSERT_EQ(d["step"].size(), 2u);
+  EXPECT_NEAR(d["A_displacement_y"][1], c["A_displacement_y"][4],
               1e-10 * std::abs(c["A_displacement_y"][4]));
   // A checkpoint of another mesh is bad input, named.
   RunOptions other = case_run("dfg/dfg_2d1.yaml", resumed, transient);
