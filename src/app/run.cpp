@@ -426,11 +426,7 @@ class Driver {
     sim_.scalar.set_solution(phi);
     sim_.scalar.set_time(time[0]);
     if (sim_.fluid) {
-      const auto state = read_restart(path, "fluid");
-      if (state.size() != 4 * sim_.mesh.x.size())
-        throw SceneError(path + ": the checkpoint has no fluid state for this mesh");
-      sim_.fluid->set_solution(state);
-      sim_.fluid->set_time(time[0]);
+      restore_fluid(path, time[0]);
       if (sim_.fsi) {
         sim_.fsi->set_reference(sim_.mesh);
         sim_.structure->set_state(restart_points(path, "structure_displacement"),
@@ -450,6 +446,14 @@ class Driver {
     std::cout << "restart: " << path << " (after growth step " << first << ", t = " << time[0]
               << " ms)\n";
     return first;
+  }
+
+  void restore_fluid(const std::string& path, double time) {
+    const auto state = read_restart(path, "fluid");
+    if (state.size() != 4 * sim_.mesh.x.size())
+      throw SceneError(path + ": the checkpoint has no fluid state for this mesh");
+    sim_.fluid->set_solution(state);
+    sim_.fluid->set_time(time);
   }
 
   // A node's three values of a restart dataset, checked against the mesh.
@@ -486,13 +490,7 @@ class Driver {
     if (!(step[0] >= 1 && step[0] < scene_.time.steps))
       throw SceneError(path + ": step " + std::to_string(step[0]) + " is outside the scene's 1.." +
                        std::to_string(scene_.time.steps - 1) + " (--restart " + path + ")");
-    if (sim_.fluid) {
-      const auto state = read_restart(path, "fluid");
-      if (state.size() != 4 * sim_.mesh.x.size())
-        throw SceneError(path + ": the checkpoint has no fluid state for this mesh");
-      sim_.fluid->set_solution(state);
-      sim_.fluid->set_time(time[0]);
-    }
+    if (sim_.fluid) restore_fluid(path, time[0]);
     if (sim_.structure)
       sim_.structure->set_state(restart_points(path, "structure_displacement"),
                                 restart_points(path, "structure_velocity"), time[0]);
