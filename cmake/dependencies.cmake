@@ -40,8 +40,8 @@ if(NOT BIOFSI_KERNELS_ONLY)
   # fills; otherwise Debian's libhypre-dev, which has no OpenMP. Sets BIOFSI_HYPRE_VERSION,
   # BIOFSI_HYPRE_LOCATION (a path, or "Debian libhypre-dev"), BIOFSI_HYPRE_OPENMP and
   # BIOFSI_HYPRE_CUDA (0 or 1) from the HYPRE_config.h found, for the version report.
-  # Debian's is the default: on 2 threads the OpenMP build's BoomerAMG made the test suite's small
-  # problems up to 18x slower (docs/performance.md).
+  # Debian's is the default: on 2 threads the OpenMP build's BoomerAMG made one of the test
+  # suite's fluid tests 18x slower (docs/performance.md).
   set(BIOFSI_HYPRE_FLAVOUR "debian" CACHE STRING
       "debian (Debian's libhypre-dev), openmp (scripts/setup --hypre-openmp) or cuda")
   if(NOT DEFINED HYPRE_ROOT AND DEFINED ENV{HYPRE_ROOT})
