@@ -42,15 +42,15 @@ struct InnerLoopResult {
 // What --overwrite removes of an earlier run in the output directory: every file a run writes
 // there (the index and step files go with XdmfWriter), and temporary files a killed run left.
 bool written_by_a_run(const std::string& name) {
-  auto numbered = [&](const std::string& prefix, const std::string& suffix) {
-    return name.size() == prefix.size() + 6 + suffix.size() && name.rfind(prefix, 0) == 0 &&
-           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0 &&
-           std::all_of(name.begin() + prefix.size(), name.end() - suffix.size(),
-                       [](char c) { return c >= '0' && c <= '9'; });
-  };
   auto ends_with = [&](const std::string& suffix) {
     return name.size() >= suffix.size() &&
            name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  auto numbered = [&](const std::string& prefix, const std::string& suffix) {
+    return name.size() == prefix.size() + 6 + suffix.size() && name.rfind(prefix, 0) == 0 &&
+           ends_with(suffix) &&
+           std::all_of(name.begin() + prefix.size(), name.end() - suffix.size(),
+                       [](char c) { return c >= '0' && c <= '9'; });
   };
   return numbered("checkpoint_", ".h5") || name == "summary.txt" || name == "series.csv" ||
          (name.rfind("flux_", 0) == 0 && ends_with(".csv")) || ends_with(".tmp");

@@ -65,10 +65,7 @@ Simulation::Simulation(const Scene& s)
   }
   // Both evaluated at every node here, so a non-finite value stops the run before it starts.
   scalar.set_initial(space_time_function(s.scalar.initial, "fields.scalar.initial"), 0.0);
-  std::array<SpaceTimeFunction, 3> v;
-  for (int d = 0; d < 3; ++d)
-    v[d] = space_time_function(s.scalar.velocity[d],
-                               scene_input::index_key("fields.scalar.velocity", d));
+  const auto v = space_time_functions(s.scalar.velocity, "fields.scalar.velocity");
   std::vector<Point> c(mesh.n_nodes());
   for (int n = 0; n < mesh.n_nodes(); ++n)
     for (int d = 0; d < 3; ++d) c[n][d] = v[d](mesh.x[n], 0.0);

@@ -33,10 +33,8 @@ FluidBcSpec read_boundary_condition(const MapView& typed, int line, const std::s
       c.fail(*v, typed.key("value"), "a " + bc_type_name(bc.type) + " condition takes no value",
              render(*v), "no value key");
     if (bc.type == FluidBcType::Velocity) {
-      const std::string expected = "a list of 3 expressions (velocity components)";
-      if (!v->IsSequence() || v->size() != 3) c.wrong_type(*v, typed.key("value"), expected);
-      for (size_t d = 0; d < 3; ++d)
-        bc.value[d] = expression(c, (*v)[d], index_key(typed.key("value"), d));
+      bc.value =
+          *get_expression_vector(typed, "value", "a list of 3 expressions (velocity components)");
     } else {
       bc.value[0] = expression(c, *v, typed.key("value"));
     }
@@ -87,10 +85,7 @@ FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
 }
 
 FluidVectorFunction fluid_body_force(const FluidSection& section) {
-  std::array<FluidFunction, 3> f;
-  for (int d = 0; d < 3; ++d)
-    f[d] = space_time_function(section.body_force->at(d),
-                               "fields.fluid.body_force[" + std::to_string(d) + "]");
+  const auto f = space_time_functions(*section.body_force, "fields.fluid.body_force");
   // The field takes force per unit mass (kernels/fluid/pointwise.hpp).
   const double per_mass = 1 / section.settings.density;
   return [f, per_mass](const Point& x, double t) {

@@ -180,4 +180,12 @@ std::function<double(const Point&, double)> space_time_function(const std::strin
   };
 }
 
+std::array<std::function<double(const Point&, double)>, 3> space_time_functions(
+    const std::array<std::string, 3>& texts, const std::string& key) {
+  std::array<std::function<double(const Point&, double)>, 3> out;
+  for (int d = 0; d < 3; ++d)
+    out[d] = space_time_function(texts[d], key + "[" + std::to_string(d) + "]");
+  return out;
+}
+
 }  // namespace biofsi

@@ -4,6 +4,7 @@
 // Host only; not thread-safe (one parser per object).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -43,5 +44,8 @@ class NonFiniteExpression : public std::runtime_error {
 // scene key the expression was read from, e.g. "fields.scalar.initial"), whenever it is met.
 std::function<double(const Point&, double)> space_time_function(const std::string& text,
                                                                 const std::string& key);
+// A vector field of 3 expressions, read from the list `key` (components named key[0..2]).
+std::array<std::function<double(const Point&, double)>, 3> space_time_functions(
+    const std::array<std::string, 3>& texts, const std::string& key);
 
 }  // namespace biofsi

@@ -74,10 +74,8 @@ ScalarSection read_scalar_section(const MapView& fields, const MeshNames& names,
     if (fluid_enabled)
       c.fail(*v, s.key("velocity"), "a prescribed velocity while the fluid field is on", render(*v),
              "no velocity key: the scalar is convected by the fluid's velocity");
-    const std::string expected = "a list of 3 expressions (velocity components)";
-    if (!v->IsSequence() || v->size() != 3) c.wrong_type(*v, s.key("velocity"), expected);
-    for (size_t i = 0; i < 3; ++i)
-      section.velocity[i] = expression(c, (*v)[i], index_key(s.key("velocity"), i));
+    section.velocity =
+        *get_expression_vector(s, "velocity", "a list of 3 expressions (velocity components)");
   }
   section.settings.supg = get_bool(s, "supg", section.settings.supg);
   auto bcs = s.get("boundary_conditions");

@@ -86,11 +86,7 @@ StructureSection read_structure_section(const MapView& fields, const MeshNames& 
 }
 
 std::array<SpaceTimeFunction, 3> structure_body_force(const StructureSection& section) {
-  std::array<SpaceTimeFunction, 3> out;
-  for (int d = 0; d < 3; ++d)
-    out[d] = space_time_function(section.body_force->at(d),
-                                 "fields.structure.body_force[" + std::to_string(d) + "]");
-  return out;
+  return space_time_functions(*section.body_force, "fields.structure.body_force");
 }
 
 std::vector<StructureDirichlet> structure_boundary_conditions(const StructureSection& section) {
