@@ -1,8 +1,8 @@
 // The fluid field's costs beyond the tangent apply (bench_operator has that): the assembly of the
 // stabilised Navier-Stokes Jacobian (4 unknowns per node) and, per preconditioner (monolithic
-// systems BoomerAMG, SIMPLE, SIMPLEC), the set-up time and the Krylov iterations per Newton step of
-// a steady lid-driven cavity (Re 100, pseudo-2-D) under mesh refinement. bench/run fluid runs it
-// at 1 and 2 threads and writes bench/results/fluid_operator.md.
+// systems BoomerAMG, SIMPLE, SIMPLEC, sparse LU), the set-up time and the Krylov iterations per
+// Newton step of a steady lid-driven cavity (Re 100, pseudo-2-D) under mesh refinement. bench/run
+// fluid runs it at 1 and 2 threads and writes bench/results/fluid_operator.md.
 //
 // The assembled operator: bench/deformed_cube.hpp's fluid_physics and state on the plain cube, a
 // transient step (theta 0.66, dt 0.1) with every stabilisation term active.
@@ -97,7 +97,8 @@ void register_benchmarks(Options&) {
   const std::pair<const char*, FluidPreconditioner> pcs[] = {
       {"monolithic_amg", FluidPreconditioner::MonolithicAmg},
       {"simple", FluidPreconditioner::Simple},
-      {"simplec", FluidPreconditioner::SimpleC}};
+      {"simplec", FluidPreconditioner::SimpleC},
+      {"direct", FluidPreconditioner::Direct}};
   for (int n : {16, 32, 64})
     for (const auto& [name, pc] : pcs) {
       const FluidPreconditioner preconditioner = pc;

@@ -93,6 +93,18 @@ int flux_block(const Mesh& mesh, const std::string& set) {
   return blocks.size() == 1 && mesh.block_names.size() > 1 ? *blocks.begin() : -1;
 }
 
+namespace {
+
+// Average iterations per Newton step, the solver-cost measure that stays comparable across
+// scenes and meshes (the deterministic counts, not the noisy times).
+std::string per_newton_step(long iterations, long newton_steps) {
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(1) << double(iterations) / std::max(1L, newton_steps);
+  return o.str();
+}
+
+}  // namespace
+
 std::string format_range(const std::vector<QualityRange>& q, const Mesh& mesh) {
   std::ostringstream o;
   for (size_t b = 0; b < q.size(); ++b)
@@ -130,7 +142,8 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
     o << "  fluid: " << f.steps << " solves, " << f.newton_iterations << " Newton and "
       << f.krylov_iterations << " Krylov iterations, " << f.preconditioner_setups
       << " preconditioner set-ups, " << f.cut_steps << " time steps cut, " << f.pseudo_steps
-      << " pseudo-time steps\n";
+      << " pseudo-time steps; per Newton step "
+      << per_newton_step(f.krylov_iterations, f.newton_iterations) << " Krylov\n";
   }
   if (sim.structure && !sim.fsi) {
     const StructureStats& f = sim.structure->stats();
@@ -146,7 +159,10 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
     o << "  fsi: " << f.solves << " monolithic solves, " << f.newton_iterations << " Newton and "
       << f.krylov_iterations << " outer Krylov iterations (inner: structure "
       << f.inner_iterations[0] << ", fluid " << f.inner_iterations[1] << ", fluid mesh "
-      << f.inner_iterations[2] << "), " << f.cut_steps << " time steps cut; max structure "
+      << f.inner_iterations[2] << "), " << f.cut_steps << " time steps cut; per Newton step "
+      << per_newton_step(f.krylov_iterations, f.newton_iterations) << " outer Krylov (inner "
+      << "fluid " << per_newton_step(f.inner_iterations[1], f.newton_iterations)
+      << "); max structure "
       << "displacement " << d_max << ", smallest scaled Jacobian of the deformed mesh "
       << sim.min_deformed_quality << "\n";
   }

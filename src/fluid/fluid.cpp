@@ -173,6 +173,8 @@ FluidField::FluidField(const Mesh& mesh, const FluidSettings& settings,
     o.num_functions = 4;  // (u, v, w, p) interleaved: one C/F choice per node
     o.nodal_coarsening = true;
     amg_ = std::make_unique<BoomerAmg>(o);
+  } else if (settings_.preconditioner == FluidPreconditioner::Direct) {
+    lu_ = std::make_unique<SparseLu>();
   } else {
     simple_ = std::make_unique<SimplePreconditioner>(
         settings_.preconditioner == FluidPreconditioner::SimpleC,
@@ -406,6 +408,8 @@ void FluidField::setup_preconditioner_on_matrix() {
   ScopedTimer t(stats_.seconds_preconditioner_setup);
   if (amg_)
     amg_->setup(matrix_);
+  else if (lu_)
+    lu_->setup(matrix_);
   else
     simple_->setup(matrix_);
   ++stats_.preconditioner_setups;
@@ -414,6 +418,8 @@ void FluidField::setup_preconditioner_on_matrix() {
 void FluidField::precondition(ConstVector r, Vector z) const {
   if (amg_)
     amg_->apply(r, z);
+  else if (lu_)
+    lu_->apply(r, z);
   else
     simple_->apply(r, z);
 }

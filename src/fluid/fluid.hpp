@@ -52,7 +52,8 @@ FluidBoundaryCondition fluid_do_nothing(const std::string& set);
 enum class FluidPreconditioner {
   MonolithicAmg,  // BoomerAMG, 4 functions per node with nodal coarsening, on the whole Jacobian
   Simple,         // SIMPLE: AMG on the velocity block and on C - B diag(A)^-1 G
-  SimpleC         // SIMPLEC: the same with absolute row sums of A for diag(A)
+  SimpleC,        // SIMPLEC: the same with absolute row sums of A for diag(A)
+  Direct          // sparse LU of the whole Jacobian: an exact preconditioner
 };
 
 struct FluidSettings {
@@ -252,6 +253,7 @@ class FluidField {
   CsrMatrix matrix_;
   std::unique_ptr<BoomerAmg> amg_;
   std::unique_ptr<SimplePreconditioner> simple_;
+  std::unique_ptr<SparseLu> lu_;
   double time_ = 0;
   FluidStats stats_;
 };

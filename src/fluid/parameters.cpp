@@ -75,7 +75,8 @@ FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
   s.preconditioner = get_enum(m, "preconditioner",
                               {{"simple", FluidPreconditioner::Simple},
                                {"simplec", FluidPreconditioner::SimpleC},
-                               {"monolithic_amg", FluidPreconditioner::MonolithicAmg}},
+                               {"monolithic_amg", FluidPreconditioner::MonolithicAmg},
+                               {"direct", FluidPreconditioner::Direct}},
                               std::optional<FluidPreconditioner>(s.preconditioner));
   section.body_force = get_expression_vector(
       m, "body_force", "a list of 3 expressions in x, y, z, t [force per volume]");

@@ -131,6 +131,30 @@ class BoomerAmg {
   double setup_seconds_ = 0;
 };
 
+// Sparse LU factorisation of an assembled matrix (Eigen's supernodal SparseLU, fill-reducing
+// COLAMD ordering), used as an exact preconditioner where the factors stay small: pseudo-2-D and
+// small 3-D problems, whose block-preconditioned Krylov solves otherwise need hundreds of
+// iterations (bench/README.md). The symbolic analysis is kept while the sparsity pattern is
+// unchanged, so a Newton step refactors numerically only. Runs on the host, one thread; vectors
+// cross to host memory at each application.
+class SparseLu {
+ public:
+  SparseLu();
+  ~SparseLu();
+  SparseLu(const SparseLu&) = delete;
+  SparseLu& operator=(const SparseLu&) = delete;
+
+  // Throws std::runtime_error when the matrix is structurally or numerically singular.
+  void setup(const CsrMatrix& a);
+  void apply(ConstVector r, Vector z) const;
+  // Nonzeros of the L and U factors (their fill), for the summary and the bench.
+  long factor_nonzeros() const;
+
+ private:
+  struct Impl;
+  Impl* impl_ = nullptr;
+};
+
 // A failed solve: names the field, the step and why.
 class SolveError : public std::runtime_error {
  public:
