@@ -85,12 +85,15 @@ void print_active_fields(const Scene& scene) {
                  "growth step)\n";
 }
 
-// Blocks that own the faces of a set: one block gives the flux into that block (an interface
-// seen from its lower side), several give the flux into the whole domain.
 int flux_block(const Mesh& mesh, const std::string& set) {
   std::set<int> blocks;
   for (const auto& f : mesh.face_sets.at(set)) blocks.insert(mesh.element_block[f.element]);
-  return blocks.size() == 1 && mesh.block_names.size() > 1 ? *blocks.begin() : -1;
+  if (mesh.block_names.size() < 2 || blocks.empty()) return -1;
+  if (blocks.size() == 1) return *blocks.begin();
+  if (blocks.size() > 2 || !lists_both_sides(mesh, set)) return -1;
+  for (int b : blocks)
+    if (set.rfind(mesh.block_names[b] + "_", 0) == 0) return b;
+  return *blocks.begin();
 }
 
 std::string format_range(const std::vector<QualityRange>& q, const Mesh& mesh) {
