@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <regex>
 
+#include "app/report.hpp"
 #include "colony_support.hpp"
 #include "growth/growth.hpp"
 #include "io/output.hpp"
@@ -115,6 +116,28 @@ TEST(ColonyInterface, IsTakenFromTheBiofilmSideWithNormalsIntoTheFluid) {
     EXPECT_NEAR(normals[i][0], p[0] / radius(p), 1e-12);
     EXPECT_NEAR(normals[i][1], p[1] / radius(p), 1e-12);
   }
+}
+
+// The summary's flux through an interface listed once per side goes into the block the set's name
+// begins with, and its density divides by that side's area alone: the same as on the set cut to
+// the biofilm side (to round-off: the same residual, the same faces).
+TEST(ColonyInterface, ListedOncePerSideReportsItsFluxIntoTheBlockItsNameBeginsWith) {
+  const Mesh both = colony::disc_in_annulus(disc_spec(4));
+  const int biofilm = both.block_index("biofilm");
+  EXPECT_EQ(flux_block(both, "biofilm_fluid"), biofilm);
+  EXPECT_EQ(flux_block(both, "outer"), both.block_index("fluid"));
+  Mesh one_side = both;
+  ASSERT_EQ(orient_interface(one_side, "biofilm_fluid", biofilm), "");
+  const BoundaryFlux a = steady_flux_into_colony(both), b = steady_flux_into_colony(one_side);
+  ASSERT_EQ(a.density.size(), b.density.size());
+  for (size_t i = 0; i < a.density.size(); ++i) EXPECT_NEAR(a.density[i], b.density[i], 1e-12);
+  EXPECT_GT(a.total, 0);
+  // A box's side wall spans both blocks but is no interface: its flux is the domain's.
+  BoxSpec box;
+  box.blocks = {{"biofilm", 0, 1, 2, 1.0}, {"fluid", 1, 2, 2, 1.0}};
+  const Mesh stacked = make_box_mesh(box);
+  EXPECT_EQ(flux_block(stacked, "left"), -1);
+  EXPECT_EQ(flux_block(stacked, "biofilm_fluid"), stacked.block_index("biofilm"));
 }
 
 TEST(ColonyInterface, WithoutBiofilmFacesOrWithCancellingNormalsIsRefused) {
