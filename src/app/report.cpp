@@ -184,7 +184,10 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
   o << "\n";
   if (sim.scene.growth.enabled)
     o << "  mesh quality (scaled Jacobian) over the run: [" << totals.min_quality << ", "
-      << totals.max_quality << "]\n";
+      << totals.max_quality << "]\n"
+      << "  interface '" << sim.scene.growth.settings.interface_set << "' moved up to "
+      << totals.interface_moved << " mm over the run (at most " << totals.largest_interface_step
+      << " mm in a growth step)\n";
   if (sim.scene.scalar.enabled)
     o << "  final time " << sim.scalar.time() << ", integral of phi " << sim.scalar.integral()
       << ", consumption rate " << sim.scalar.reaction_integral() << "\n";

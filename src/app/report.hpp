@@ -44,6 +44,9 @@ struct RunTotals {
   int steps = 0, inner_steps = 0, stationary_loops = 0, mesh_krylov_iterations = 0;
   double seconds_growth = 0;
   double min_quality = 1, max_quality = -1;
+  // The growth interface's motion [mm]: the largest of one growth step, and the largest distance
+  // an interface node moved over the run.
+  double largest_interface_step = 0, interface_moved = 0;
 };
 
 // The end-of-run summary: iterations and time per field and phase, mesh quality, the requested

@@ -258,8 +258,8 @@ TEST(ColonyGrowth, AreaGainIsTheInterfaceIntegralOfTheDisplacementToFirstOrder) 
 }
 
 // The shipped scene, its Gmsh mesh listing the circle once per side: two growth steps (one
-// move). The colony's rim moves outward, and the summary reports the flux into the biofilm, which
-// balances its consumption (both 0.0439 at the steady state).
+// move). The colony's rim moves outward, and the summary reports that motion and the flux into the
+// biofilm, which balances its consumption (both 0.0439 at the steady state).
 TEST(ColonyScene, DiscGrowsAndReportsTheFluxIntoTheBiofilm) {
   const auto out = std::filesystem::temp_directory_path() / "biofsi_colony_disc";
   const test::RunOutput r =
@@ -276,6 +276,9 @@ TEST(ColonyScene, DiscGrowsAndReportsTheFluxIntoTheBiofilm) {
   // 1000 * 2e-3 * J with J = 0.023 in the first step: 0.045 (the scene's header).
   EXPECT_GT(mean_rim_radius("scalar_000002.h5") - mean_rim_radius("scalar_000000.h5"), 0.03);
   std::smatch m;
+  const std::regex moved("interface 'biofilm_fluid' moved up to ([-0-9.e]+) mm");
+  ASSERT_TRUE(std::regex_search(r.out, m, moved)) << r.out;
+  EXPECT_GT(std::stod(m[1]), 0.03);
   const std::regex flux("flux through 'biofilm_fluid' into block 'biofilm': total ([-0-9.e]+)");
   const std::regex consumption("consumption rate ([-0-9.e]+)");
   ASSERT_TRUE(std::regex_search(r.out, m, flux)) << r.out;
