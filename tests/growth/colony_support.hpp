@@ -26,6 +26,9 @@ struct DiscSpec {
   double core = 0.45;    // half-width of the colony's core square
   double r_outer = 2.0;  // outer radius of the fluid annulus
   double thickness = 0.2;
+  // Only y >= 0 (n even): half a colony sitting on the substratum y = 0 (face set "bottom"), the
+  // interface meeting it at a right angle.
+  bool on_substratum = false;
 };
 
 namespace detail {
@@ -69,6 +72,22 @@ void add_patch(Nodes2d& nodes, std::vector<Quad>& quads, int n_t, int n_r, int b
       quads.push_back({{id[i][j], id[i][j + 1], id[i + 1][j + 1], id[i + 1][j]}, block});
 }
 
+// The quads with their centre above y = 0, on nodes renumbered to those they use.
+void keep_upper_half(Nodes2d& nodes, std::vector<Quad>& quads) {
+  Nodes2d kept_nodes;
+  std::vector<Quad> kept;
+  for (const auto& q : quads) {
+    double y = 0;
+    for (int v : q.node) y += nodes.points()[v][1] / 4;
+    if (y < 0) continue;
+    Quad k = q;
+    for (int& v : k.node) v = kept_nodes.at(nodes.points()[v][0], nodes.points()[v][1]);
+    kept.push_back(k);
+  }
+  nodes = std::move(kept_nodes);
+  quads = std::move(kept);
+}
+
 std::array<double, 2> rotated(std::array<double, 2> p, int quarter) {
   for (int q = 0; q < quarter; ++q) p = {-p[1], p[0]};
   return p;
@@ -77,7 +96,8 @@ std::array<double, 2> rotated(std::array<double, 2> p, int quarter) {
 }  // namespace detail
 
 // Face sets: biofilm_fluid (the circle, its faces once from each side), outer (r = r_outer),
-// front (z = 0), back (z = thickness); node sets of the same names.
+// front (z = 0), back (z = thickness), with on_substratum bottom (y = 0); node sets of the same
+// names.
 inline Mesh disc_in_annulus(const DiscSpec& spec) {
   using detail::rotated;
   const double pi = std::acos(-1.0), a = spec.core;
@@ -102,6 +122,7 @@ inline Mesh disc_in_annulus(const DiscSpec& spec) {
     detail::add_patch(nodes, quads, spec.n, spec.n_fluid, 1, on_circle(1.0),
                       on_circle(spec.r_outer));
   }
+  if (spec.on_substratum) detail::keep_upper_half(nodes, quads);
   Mesh m;
   const auto& p2 = nodes.points();
   const int n2 = static_cast<int>(p2.size());
@@ -124,6 +145,8 @@ inline Mesh disc_in_annulus(const DiscSpec& spec) {
         m.face_sets["biofilm_fluid"].push_back({e, face_over_edge[k]});
       if (on_circle_of(u, spec.r_outer) && on_circle_of(w, spec.r_outer))
         m.face_sets["outer"].push_back({e, face_over_edge[k]});
+      if (spec.on_substratum && std::abs(p2[u][1]) < 1e-12 && std::abs(p2[w][1]) < 1e-12)
+        m.face_sets["bottom"].push_back({e, face_over_edge[k]});
     }
     m.face_sets["front"].push_back({e, 4});
     m.face_sets["back"].push_back({e, 5});
