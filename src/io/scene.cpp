@@ -472,6 +472,11 @@ void set_time_and_solver(Scene& scene) {
   scene.growth.settings.mesh_motion.scatter = solver.scatter;
 }
 
+std::string growth_interface_expected(const std::string& biofilm) {
+  return "a face set that bounds block '" + biofilm +
+         "', whose faces on that side have normals that agree at every node";
+}
+
 // The growth interface seen from the biofilm block (orient_interface) must exist and have
 // normals; checked on the mesh the names were read from, so that the message points at the line.
 void check_growth_interface(const Checker& c, const Node& growth, Mesh mesh, const Scene& scene) {
@@ -480,9 +485,7 @@ void check_growth_interface(const Checker& c, const Node& growth, Mesh mesh, con
   const std::string& biofilm = scene.growth.biofilm_block;
   const std::string why = orient_interface(mesh, set, mesh.block_index(biofilm));
   if (!why.empty())
-    c.fail(growth["interface"], "growth.interface", why, set,
-           "a face set between block '" + biofilm +
-               "' and the fluid whose faces on the biofilm side face one way");
+    c.fail(growth["interface"], "growth.interface", why, set, growth_interface_expected(biofilm));
 }
 
 Scene read_scene(const Node& root, const Checker& c) {
@@ -694,7 +697,8 @@ Mesh make_scene_mesh(const Scene& scene, int* reoriented, bool keep_blocks) {
     const std::string why = orient_interface(mesh, scene.growth.settings.interface_set, biofilm);
     if (!why.empty())
       throw SceneError(scene.file + ": growth.interface: " + why + "; got '" +
-                       scene.growth.settings.interface_set + "'");
+                       scene.growth.settings.interface_set + "', expected " +
+                       growth_interface_expected(scene.growth.biofilm_block));
   }
   return mesh;
 }
