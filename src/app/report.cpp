@@ -85,12 +85,15 @@ void print_active_fields(const Scene& scene) {
                  "growth step)\n";
 }
 
-// Blocks that own the faces of a set: one block gives the flux into that block (an interface
-// seen from its lower side), several give the flux into the whole domain.
 int flux_block(const Mesh& mesh, const std::string& set) {
   std::set<int> blocks;
   for (const auto& f : mesh.face_sets.at(set)) blocks.insert(mesh.element_block[f.element]);
-  return blocks.size() == 1 && mesh.block_names.size() > 1 ? *blocks.begin() : -1;
+  if (mesh.block_names.size() < 2 || blocks.empty()) return -1;
+  if (blocks.size() == 1) return *blocks.begin();
+  if (blocks.size() > 2 || !lists_both_sides(mesh, set)) return -1;
+  for (int b : blocks)
+    if (set.rfind(mesh.block_names[b] + "_", 0) == 0) return b;
+  return *blocks.begin();
 }
 
 namespace {
@@ -197,7 +200,10 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
   o << "\n";
   if (sim.scene.growth.enabled)
     o << "  mesh quality (scaled Jacobian) over the run: [" << totals.min_quality << ", "
-      << totals.max_quality << "]\n";
+      << totals.max_quality << "]\n"
+      << "  interface '" << sim.scene.growth.settings.interface_set << "' moved up to "
+      << totals.interface_moved << " mm over the run (at most " << totals.largest_interface_step
+      << " mm in a growth step)\n";
   if (sim.scene.scalar.enabled)
     o << "  final time " << sim.scalar.time() << ", integral of phi " << sim.scalar.integral()
       << ", consumption rate " << sim.scalar.reaction_integral() << "\n";

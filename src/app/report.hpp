@@ -34,8 +34,9 @@ void print_active_fields(const Scene& scene);
 // Per block "name [min, max]" of a mesh-quality range.
 std::string format_range(const std::vector<QualityRange>& q, const Mesh& mesh);
 
-// Blocks that own the faces of a set: one block gives the flux into that block (an interface
-// seen from its lower side), several give the flux into the whole domain (-1).
+// The block a set's flux is reported into: the one block that owns its faces; for an interface
+// whose faces are listed once per side (Gmsh), the block its name begins with (`biofilm_fluid`:
+// biofilm), else the first of the two; otherwise the whole domain (-1).
 int flux_block(const Mesh& mesh, const std::string& set);
 
 // What a run adds up besides the fields' own statistics.
@@ -43,6 +44,9 @@ struct RunTotals {
   int steps = 0, inner_steps = 0, stationary_loops = 0, mesh_krylov_iterations = 0;
   double seconds_growth = 0;
   double min_quality = 1, max_quality = -1;
+  // The growth interface's motion [mm]: the largest of one growth step, and the largest distance
+  // an interface node moved over the run.
+  double largest_interface_step = 0, interface_moved = 0;
 };
 
 // The end-of-run summary: iterations and time per field and phase, mesh quality, the requested

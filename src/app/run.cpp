@@ -33,6 +33,17 @@ std::vector<double> on_nodes(const Mesh& mesh, const std::vector<int>& nodes,
   return out;
 }
 
+// The largest distance between the nodes' positions and `start` (same order).
+double largest_distance(const Mesh& mesh, const std::vector<int>& nodes,
+                        const std::vector<Point>& start) {
+  double out = 0;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const Point& p = mesh.x[nodes[i]];
+    out = std::max(out, std::hypot(p[0] - start[i][0], p[1] - start[i][1], p[2] - start[i][2]));
+  }
+  return out;
+}
+
 struct InnerLoopResult {
   int steps = 0;
   bool stationary = false;
@@ -180,6 +191,8 @@ class Driver {
 
     const std::vector<int> gamma =
         sim_.mesh.node_sets.at(gs.interface_set);  // a copy: grow() replaces the mesh
+    std::vector<Point> gamma_start;
+    for (int n : gamma) gamma_start.push_back(sim_.mesh.x[n]);
     int k = first;
     try {
       for (k = first;; ++k) {
@@ -223,6 +236,9 @@ class Driver {
         }
         totals_.seconds_growth += std::chrono::duration<double>(Clock::now() - t0).count();
         totals_.mesh_krylov_iterations += rep.krylov_iterations;
+        totals_.largest_interface_step =
+            std::max(totals_.largest_interface_step, rep.max_interface_displacement);
+        totals_.interface_moved = largest_distance(sim_.mesh, gamma, gamma_start);
         ++totals_.steps;
         note_quality(rep.quality);
         if (!tty_)

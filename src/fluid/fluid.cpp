@@ -14,32 +14,6 @@
 
 namespace biofsi {
 
-namespace {
-
-// Outward (out of its element) area vector of a boundary face: half the cross product of the
-// diagonals, exact for planar quadrilaterals.
-Point face_area_vector(const Mesh& mesh, const BoundaryFace& f) {
-  const auto& c = mesh.conn[f.element];
-  Point x[4];
-  for (int k = 0; k < 4; ++k) x[k] = mesh.x[c[hex8_face_nodes[f.local_face][k]]];
-  Point d1, d2, centre{0, 0, 0}, fc{0, 0, 0};
-  for (int i = 0; i < 3; ++i) {
-    d1[i] = x[2][i] - x[0][i];
-    d2[i] = x[3][i] - x[1][i];
-    for (int k = 0; k < 4; ++k) fc[i] += 0.25 * x[k][i];
-    for (int a = 0; a < 8; ++a) centre[i] += 0.125 * mesh.x[c[a]][i];
-  }
-  Point n{0.5 * (d1[1] * d2[2] - d1[2] * d2[1]), 0.5 * (d1[2] * d2[0] - d1[0] * d2[2]),
-          0.5 * (d1[0] * d2[1] - d1[1] * d2[0])};
-  double s = 0;
-  for (int i = 0; i < 3; ++i) s += n[i] * (fc[i] - centre[i]);
-  if (s < 0)
-    for (double& v : n) v = -v;
-  return n;
-}
-
-}  // namespace
-
 FluidBoundaryCondition fluid_no_slip(const std::string& set) {
   FluidBoundaryCondition bc;
   bc.set = set;

@@ -6,6 +6,22 @@
 
 namespace biofsi {
 
+std::string orient_interface(Mesh& mesh, const std::string& set, int biofilm) {
+  std::vector<BoundaryFace> faces = faces_of_block(mesh, set, biofilm);
+  if (faces.empty())
+    return "the face set has no face of a '" + mesh.block_names.at(biofilm) +
+           "' element (it does not bound the biofilm block)";
+  mesh.face_sets[set] = std::move(faces);
+  const WeakestNormal w = weakest_nodal_normal(mesh, set);
+  if (w.ratio >= kMinInterfaceNormalRatio) return "";
+  const Point& p = mesh.x[w.node];
+  std::ostringstream why;
+  why << "the normals of its faces on the biofilm side nearly cancel at node (" << p[0] << ", "
+      << p[1] << ", " << p[2] << "): |nodal normal| / |face normal| = " << w.ratio << " < "
+      << kMinInterfaceNormalRatio << ", so the growth direction there is undefined";
+  return why.str();
+}
+
 InterfaceMotion interface_motion(const Mesh& mesh, const GrowthSettings& s,
                                  const std::vector<double>& flux_density,
                                  const std::vector<double>& shear_stress) {

@@ -25,6 +25,18 @@ struct GrowthSettings {
   MeshMotionSettings mesh_motion;
 };
 
+// The smallest |nodal normal| / (mean |face normal|) accepted on a growth interface: 0.1 means
+// faces turning by more than 168 degrees at one node, a crease along which "normal" has no
+// direction (or both sides of the same faces listed); a smooth colony's surface has about 1.
+constexpr double kMinInterfaceNormalRatio = 0.1;
+
+// Keeps of the interface's face set only the faces of the biofilm block's elements, so that its
+// normals point out of the biofilm into the fluid whatever the mesh lists (a Gmsh mesh lists an
+// interface once per side; a box mesh the biofilm's side only). Returns what is wrong with the
+// interface then, empty when nothing: no face on the biofilm side, or a node where the normals
+// of its faces nearly cancel (kMinInterfaceNormalRatio).
+std::string orient_interface(Mesh& mesh, const std::string& set, int biofilm);
+
 struct InterfaceMotion {
   std::vector<int> nodes;           // interface nodes (node_sets[interface_set])
   std::vector<double> velocity;     // v = K1 J - K2 sigma

@@ -34,7 +34,7 @@ bool valid_block_name(const std::string& s) {
 
 // mesh: {type: gmsh, file: <path relative to the scene>, thickness: <for a 2-D file>}. The file is
 // read here, so that a bad mesh and unknown set names are reported before anything runs.
-std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& scene) {
+std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& scene, Mesh& mesh) {
   const std::string expected = "the path of a MSH 4.1 ASCII file, relative to the scene file";
   const Node file = m.require("file", expected);
   const std::string name = string_value(c, file, m.key("file"), expected);
@@ -59,7 +59,6 @@ std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& 
                      [](double v) { return std::isfinite(v); }, p_expected));
     }
   }
-  Mesh mesh;
   try {
     mesh = make_scene_mesh(scene, nullptr, false);
   } catch (const MeshFileError& e) {
@@ -83,12 +82,14 @@ std::set<std::string> read_gmsh_mesh(const Checker& c, const MapView& m, Scene& 
 }
 
 void read_box_mesh(const Checker& c, const MapView& m, Scene& scene);
-std::set<std::string> read_box_face_sets(const Checker& c, const MapView& m, Scene& scene);
+std::set<std::string> read_box_face_sets(const Checker& c, const MapView& m, Scene& scene,
+                                         Mesh& mesh);
 void read_unions(const Checker& c, const MapView& m, Scene& scene,
                  std::set<std::string>& face_sets);
 
-// Returns the names of the mesh's face sets.
-std::set<std::string> read_mesh(const Checker& c, const Node& node, Scene& scene) {
+// Returns the names of the mesh's face sets; `mesh` receives the mesh they were read from (for a
+// box, a copy one element thick), with the unions added.
+std::set<std::string> read_mesh(const Checker& c, const Node& node, Scene& scene, Mesh& mesh) {
   MapView m(c, node, "mesh",
             {"type", "x", "z", "nx", "nz", "blocks", "file", "thickness", "parameters",
              "keep_blocks", "unions"});
@@ -99,9 +100,11 @@ std::set<std::string> read_mesh(const Checker& c, const Node& node, Scene& scene
     if (auto n = m.get(key))
       c.fail(*n, m.key(key), "not a key of a " + scene.mesh_type + " mesh", key,
              "the keys " + join_list(scene.mesh_type == "box" ? box_keys : gmsh_keys));
-  std::set<std::string> face_sets =
-      scene.mesh_type == "gmsh" ? read_gmsh_mesh(c, m, scene) : read_box_face_sets(c, m, scene);
+  std::set<std::string> face_sets = scene.mesh_type == "gmsh"
+                                        ? read_gmsh_mesh(c, m, scene, mesh)
+                                        : read_box_face_sets(c, m, scene, mesh);
   read_unions(c, m, scene, face_sets);
+  for (const auto& [name, sets] : scene.mesh_unions) add_union_set(mesh, sets, name);
   return face_sets;
 }
 
@@ -125,7 +128,8 @@ void read_unions(const Checker& c, const MapView& m, Scene& scene,
 }
 
 // The face-set names of a box mesh.
-std::set<std::string> read_box_face_sets(const Checker& c, const MapView& m, Scene& scene) {
+std::set<std::string> read_box_face_sets(const Checker& c, const MapView& m, Scene& scene,
+                                         Mesh& mesh) {
   const Node& node = m.node();
   read_box_mesh(c, m, scene);
   for (const auto& b : scene.box.blocks) scene.block_names.push_back(b.name);
@@ -136,7 +140,8 @@ std::set<std::string> read_box_face_sets(const Checker& c, const MapView& m, Sce
   for (auto& b : coarse.blocks) b.ny = 1;
   std::set<std::string> face_sets;
   try {
-    for (const auto& [name, faces] : make_box_mesh(coarse).face_sets) face_sets.insert(name);
+    mesh = make_box_mesh(coarse);
+    for (const auto& [name, faces] : mesh.face_sets) face_sets.insert(name);
   } catch (const std::invalid_argument& e) {
     c.fail(node, "mesh", e.what(), std::nullopt, "a valid box mesh");
   }
@@ -467,6 +472,22 @@ void set_time_and_solver(Scene& scene) {
   scene.growth.settings.mesh_motion.scatter = solver.scatter;
 }
 
+std::string growth_interface_expected(const std::string& biofilm) {
+  return "a face set that bounds block '" + biofilm +
+         "', whose faces on that side have normals that agree at every node";
+}
+
+// The growth interface seen from the biofilm block (orient_interface) must exist and have
+// normals; checked on the mesh the names were read from, so that the message points at the line.
+void check_growth_interface(const Checker& c, const Node& growth, Mesh mesh, const Scene& scene) {
+  if (!scene.growth.enabled) return;
+  const std::string& set = scene.growth.settings.interface_set;
+  const std::string& biofilm = scene.growth.biofilm_block;
+  const std::string why = orient_interface(mesh, set, mesh.block_index(biofilm));
+  if (!why.empty())
+    c.fail(growth["interface"], "growth.interface", why, set, growth_interface_expected(biofilm));
+}
+
 Scene read_scene(const Node& root, const Checker& c) {
   const std::vector<std::string> top = {"mesh",   "materials", "fields", "time",       "solver",
                                         "output", "growth",    "fsi",    "mesh_motion"};
@@ -476,8 +497,9 @@ Scene read_scene(const Node& root, const Checker& c) {
   Scene scene;
   scene.file = c.file();
   MeshNames names;
-  names.face_sets =
-      read_mesh(c, m.require("mesh", "a map describing the mesh (type: box or gmsh, ...)"), scene);
+  Mesh mesh;
+  names.face_sets = read_mesh(
+      c, m.require("mesh", "a map describing the mesh (type: box or gmsh, ...)"), scene, mesh);
   names.blocks = scene.block_names;
   read_materials(c, m.require("materials", "a map with one material per block"), scene);
   read_fields(c, m.get("fields").value_or(Node()), names, scene);
@@ -490,6 +512,7 @@ Scene read_scene(const Node& root, const Checker& c) {
       read_mesh_motion_section(c, m.get("mesh_motion").value_or(Node()), names);
   scene.growth =
       read_growth_section(c, m.get("growth").value_or(Node()), names, stacked_blocks, mesh_motion);
+  check_growth_interface(c, m.get("growth").value_or(Node()), std::move(mesh), scene);
   if (scene.structure.enabled && !scene.fluid.enabled &&
       (scene.scalar.enabled || scene.growth.enabled))
     c.fail((*m.get("fields"))["structure"], "fields.structure",
@@ -667,6 +690,16 @@ Mesh make_scene_mesh(const Scene& scene, int* reoriented, bool keep_blocks) {
     mesh = read_gmsh(scene.gmsh_file, scene.gmsh_thickness, reoriented);
   if (keep_blocks && !scene.gmsh_keep_blocks.empty()) mesh = submesh(mesh, scene.gmsh_keep_blocks);
   for (const auto& [name, sets] : scene.mesh_unions) add_union_set(mesh, sets, name);
+  // Growth, its flux and the shear on the interface are taken from the biofilm's side (checked
+  // when the scene was read: check_growth_interface).
+  const int biofilm = mesh.block_index(scene.growth.biofilm_block);
+  if (scene.growth.enabled && biofilm >= 0) {
+    const std::string why = orient_interface(mesh, scene.growth.settings.interface_set, biofilm);
+    if (!why.empty())
+      throw SceneError(scene.file + ": growth.interface: " + why + "; got '" +
+                       scene.growth.settings.interface_set + "', expected " +
+                       growth_interface_expected(scene.growth.biofilm_block));
+  }
   return mesh;
 }
 

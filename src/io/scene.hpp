@@ -97,8 +97,9 @@ struct Scene {
 };
 
 // The scene's mesh (generated, or read from its Gmsh file and cut to mesh.keep_blocks unless
-// `keep_blocks` is false, with mesh.unions added); *reoriented receives the number of mirrored
-// elements of a Gmsh file that were re-oriented (read_gmsh).
+// `keep_blocks` is false, with mesh.unions added, and the growth interface cut to its faces on the
+// biofilm side: orient_interface); *reoriented receives the number of mirrored elements of a Gmsh
+// file that were re-oriented (read_gmsh).
 Mesh make_scene_mesh(const Scene& scene, int* reoriented = nullptr, bool keep_blocks = true);
 
 // A scene file is a few kB; anything larger than this is refused before it is parsed.

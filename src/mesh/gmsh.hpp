@@ -25,7 +25,8 @@ struct MeshFileError : std::runtime_error {
 //   (z = 0) and "back" (z = thickness) are added.
 // A face shared by two hexahedra (an interface between blocks) is in its face set once per side,
 // so that a sub-mesh of one block keeps that block's side; integrate over one side by filtering on
-// the element's block. Nodes no hexahedron uses are dropped.
+// the element's block (faces_of_block; a growth interface is cut to the biofilm's side by
+// orient_interface). Nodes no hexahedron uses are dropped.
 // Every hexahedron is checked at its 8 corners (check_element): a mirrored one (left-handed at
 // every corner) is re-oriented and counted in *reoriented; an inverted, folded or degenerate one
 // is an error naming the element's tag, its block and the scaled Jacobian.

@@ -432,28 +432,75 @@ int wall_axis(const Point& n, const std::string& set) {
   return axis;
 }
 
+Point face_area_vector(const Mesh& mesh, const BoundaryFace& f) {
+  const auto& c = mesh.conn[f.element];
+  Point x[4];
+  for (int k = 0; k < 4; ++k) x[k] = mesh.x[c[hex8_face_nodes[f.local_face][k]]];
+  Point d1, d2, centre{0, 0, 0}, fc{0, 0, 0};
+  for (int i = 0; i < 3; ++i) {
+    d1[i] = x[2][i] - x[0][i];
+    d2[i] = x[3][i] - x[1][i];
+    for (int k = 0; k < 4; ++k) fc[i] += 0.25 * x[k][i];
+    for (int a = 0; a < 8; ++a) centre[i] += 0.125 * mesh.x[c[a]][i];
+  }
+  Point n{0.5 * (d1[1] * d2[2] - d1[2] * d2[1]), 0.5 * (d1[2] * d2[0] - d1[0] * d2[2]),
+          0.5 * (d1[0] * d2[1] - d1[1] * d2[0])};
+  double s = 0;
+  for (int i = 0; i < 3; ++i) s += n[i] * (fc[i] - centre[i]);
+  if (s < 0)
+    for (double& v : n) v = -v;
+  return n;
+}
+
+std::vector<BoundaryFace> faces_of_block(const Mesh& mesh, const std::string& set, int block) {
+  std::vector<BoundaryFace> out;
+  for (const auto& f : mesh.face_sets.at(set))
+    if (mesh.element_block[f.element] == block) out.push_back(f);
+  return out;
+}
+
+bool lists_both_sides(const Mesh& mesh, const std::string& set) {
+  std::set<std::array<int, 4>> seen;
+  for (const auto& f : mesh.face_sets.at(set)) {
+    std::array<int, 4> key;
+    for (int k = 0; k < 4; ++k) key[k] = mesh.conn[f.element][hex8_face_nodes[f.local_face][k]];
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) return true;
+  }
+  return false;
+}
+
+WeakestNormal weakest_nodal_normal(const Mesh& mesh, const std::string& set) {
+  const auto& nodes = mesh.node_sets.at(set);
+  std::vector<Point> sum(nodes.size(), Point{0, 0, 0});
+  std::vector<double> area(nodes.size(), 0.0);
+  for (const auto& f : mesh.face_sets.at(set)) {
+    const Point a = face_area_vector(mesh, f);
+    for (int k = 0; k < 4; ++k) {
+      const int i =
+          position_in_sorted(nodes, mesh.conn[f.element][hex8_face_nodes[f.local_face][k]]);
+      for (int c = 0; c < 3; ++c) sum[i][c] += a[c];
+      area[i] += std::sqrt(dot3(a, a));
+    }
+  }
+  WeakestNormal w;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (!(area[i] > 0)) continue;
+    const double ratio = std::sqrt(dot3(sum[i], sum[i])) / area[i];
+    if (ratio < w.ratio || w.node < 0) w = {ratio, nodes[i]};
+  }
+  return w;
+}
+
 std::vector<Point> nodal_normals(const Mesh& mesh, const std::string& set) {
   const auto& nodes = mesh.node_sets.at(set);
   std::vector<Point> n(nodes.size(), Point{0, 0, 0});
   for (const auto& f : mesh.face_sets.at(set)) {
-    int v[4];
-    for (int k = 0; k < 4; ++k) v[k] = mesh.conn[f.element][hex8_face_nodes[f.local_face][k]];
-    // Twice the area vector of the bilinear quad (diagonals' cross product).
-    Point d1, d2, centre{0, 0, 0}, elem_centre{0, 0, 0};
-    for (int c = 0; c < 3; ++c) {
-      d1[c] = mesh.x[v[2]][c] - mesh.x[v[0]][c];
-      d2[c] = mesh.x[v[3]][c] - mesh.x[v[1]][c];
-    }
-    Point a = cross(d1, d2);
-    for (int k = 0; k < 4; ++k)
-      for (int c = 0; c < 3; ++c) centre[c] += mesh.x[v[k]][c] / 4;
-    for (int k = 0; k < 8; ++k)
-      for (int c = 0; c < 3; ++c) elem_centre[c] += mesh.x[mesh.conn[f.element][k]][c] / 8;
-    Point out{centre[0] - elem_centre[0], centre[1] - elem_centre[1], centre[2] - elem_centre[2]};
-    const double sign = dot3(a, out) < 0 ? -0.5 : 0.5;  // orient outward; 0.5: area, not twice
+    const Point a = face_area_vector(mesh, f);
     for (int k = 0; k < 4; ++k) {
-      const int i = position_in_sorted(nodes, v[k]);
-      for (int c = 0; c < 3; ++c) n[i][c] += sign * a[c] / 4;
+      const int i =
+          position_in_sorted(nodes, mesh.conn[f.element][hex8_face_nodes[f.local_face][k]]);
+      for (int c = 0; c < 3; ++c) n[i][c] += a[c] / 4;
     }
   }
   for (auto& v : n) {

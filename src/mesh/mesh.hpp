@@ -150,9 +150,26 @@ constexpr double kRunBytesPerNode = 2000;
 // why not, with the numbers: "N nodes need at least X GB, more than the Y GB available".
 std::string memory_shortfall(long long nodes);
 
+// Outward (out of its element) area vector of a boundary face: half the cross product of the
+// diagonals, exact for planar quadrilaterals.
+Point face_area_vector(const Mesh& mesh, const BoundaryFace& face);
 // Area-weighted nodal normals of a face set, pointing out of the faces' elements, for the nodes of
 // node_sets[set] in that order.
 std::vector<Point> nodal_normals(const Mesh& mesh, const std::string& set);
+// The faces of a face set that belong to elements of `block`: one side of an interface whose faces
+// are listed once per side (a Gmsh mesh), or the whole set where it has one side only.
+std::vector<BoundaryFace> faces_of_block(const Mesh& mesh, const std::string& set, int block);
+// Whether a face set lists some face twice, once from each element beside it (an interface
+// between blocks as a Gmsh mesh lists it).
+bool lists_both_sides(const Mesh& mesh, const std::string& set);
+// The interface node of a face set whose area vectors cancel most: `ratio` is
+// |sum of the area vectors of its faces| / (sum of their areas) there (1 where they agree, 0 where
+// two opposite sides of one face are both listed). Sets without faces give ratio 1, node -1.
+struct WeakestNormal {
+  double ratio = 1;
+  int node = -1;
+};
+WeakestNormal weakest_nodal_normal(const Mesh& mesh, const std::string& set);
 // The coordinate axis a unit wall normal is aligned with; throws for a wall that is not
 // axis-aligned (nodes slide only along those).
 int wall_axis(const Point& normal, const std::string& set);

@@ -366,9 +366,14 @@ BoundaryFlux TransportField::boundary_flux(const std::string& set, int block) co
   Vector r("biofsi::flux_residual", mesh_.n_nodes());
   op_.residual(make_element_groups(mesh_, elements, Scatter::Atomic), phi_, r);
   const auto rh = to_host_vector(r);
+  // The area of the block's own faces where the set lists both sides of an interface (each face
+  // once), all of its faces otherwise.
+  std::vector<BoundaryFace> own =
+      block < 0 ? std::vector<BoundaryFace>{} : faces_of_block(mesh_, set, block);
+  if (own.empty()) own = mesh_.face_sets.at(set);
   Vector area("biofsi::lumped_area", mesh_.n_nodes());
-  FaceOperator<UnitAreaIntegrand> faces(to_device(mesh_.face_sets.at(set)), dmesh_.conn, dmesh_.x,
-                                        ConstNodalView{}, UnitAreaIntegrand{});
+  FaceOperator<UnitAreaIntegrand> faces(to_device(own), dmesh_.conn, dmesh_.x, ConstNodalView{},
+                                        UnitAreaIntegrand{});
   faces.residual(phi_, area);
   const auto ah = to_host_vector(area);
   BoundaryFlux out;
