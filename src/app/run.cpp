@@ -222,8 +222,11 @@ class Driver {
         note_quality(rep.quality);
         if (!tty_)
           std::cout << label << ": inner loop " << r.steps << " steps ("
-                    << (r.stationary ? "stationary" : "not stationary") << ", change " << r.change
-                    << "), interface moved max " << rep.max_interface_displacement << " mm, mesh "
+                    << (g.inner_loop == InnerLoop::FixedSteps
+                            ? "fixed"
+                            : (r.stationary ? "stationary" : "not stationary"))
+                    << ", change " << r.change << "), interface moved max "
+                    << rep.max_interface_displacement << " mm, mesh "
                     << "quality " << format_range(rep.quality, sim_.mesh) << "\n";
         if (g.checkpoint) write_checkpoint(k + 1, growth_checkpoint_data(k + 1));
       }
