@@ -2,15 +2,14 @@
 // copy of case (c) (shear flow over an elastic film, monolithic FSI, steady flow and quasi-static
 // film per growth step): the biofilm's new reference (growth.reference_update: reset makes the
 // deformed, grown shape stress-free, keep carries the elastic displacement on), restarts of both,
-// the mesh at the flow's inflow and outflow (mesh_motion.inflow_outflow: fixed holds it Eulerian,
-// walls lets it slide), and the inner loop's length (growth.inner_loop).
+// and the mesh at the flow's inflow and outflow (mesh_motion.inflow_outflow: fixed holds it
+// Eulerian, walls lets it slide).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -24,7 +23,9 @@ namespace fs = std::filesystem;
 namespace {
 
 // Case (c)'s physics (cases/coroneo2013/c_shear.yaml explains the constants) on 10 x (2 + 8)
-// elements, three growth steps, every one written.
+// elements, three growth steps, every one written. The inner loops are cut short (10 steps, a
+// loose steady_tolerance): these tests are about what a growth step hands over, and the steady
+// FSI solve once per growth step is the run's cost.
 const std::string kShearScene = R"yaml(mesh:
   type: box
   x: [-5, 5]
@@ -67,9 +68,9 @@ fsi:
   interface: biofilm_fluid
 time:
   dt: 1.0
-  steps: 40
+  steps: 10
   theta: 0.66
-  steady_tolerance: 1.0e-6
+  steady_tolerance: 1.0e-3
 solver:
   newton: {rel_tol: 1.0e-12, abs_tol: 1.0e-15}
   linear: {rel_tol: 1.0e-10}
@@ -164,7 +165,7 @@ TEST_F(GrowthUpdate, ResetLeavesTheBiofilmStressFreeForTheNextInnerLoopAndKeepDo
   }
   // Each inner loop loads the film anew, so with reset every growth step's elastic shear becomes
   // permanent and the film creeps downstream (+x) step by step; with keep the shear stays one
-  // step's. Measured on this mesh: reset 0.011, 0.022, 0.033 mm; keep 0.011 mm at every step.
+  // step's. Measured on this mesh after 3 growth steps: reset 0.145 mm, keep 0.037 mm.
   const double reset_shift = mean_interface_shift(kRoot / "reset", 3, mesh_);
   const double keep_shift = mean_interface_shift(kRoot / "keep", 3, mesh_);
   std::cout << "mean downstream shift of the interface after 3 growth steps: reset " << reset_shift
@@ -219,28 +220,4 @@ TEST_F(GrowthUpdate, InflowAndOutflowNodesStayFixedUnlessTheWallsLetThemSlide) {
   // drag on the film sideways within the wall plane).
   std::cout << "largest move of an inflow or outflow node on sliding walls: " << slid << " mm\n";
   EXPECT_GT(slid, 1e-4);
-}
-
-TEST_F(GrowthUpdate, AFixedInnerLoopRunsExactlyTimeStepsStepsPerGrowthStep) {
-  ASSERT_EQ(reset_.rc, 0) << reset_.err;
-  // The stationarity stop ends inner loops before time.steps = 40 (measured: every loop after the
-  // first), so a fixed count is visible against it.
-  std::smatch m;
-  const std::regex stationary_loop("inner loop ([0-9]+) steps \\(stationary");
-  ASSERT_TRUE(std::regex_search(reset_.out, m, stationary_loop)) << reset_.out;
-  EXPECT_LT(std::stoi(m[1]), 40);
-
-  const auto r = run(kRoot / "fixed", {"time.steady_tolerance=0", "growth.inner_loop=fixed_steps"});
-  ASSERT_EQ(r.rc, 0) << r.err;
-  int loops = 0;
-  const std::regex loop_line("inner loop ([0-9]+) steps \\(fixed");
-  for (auto it = std::sregex_iterator(r.out.begin(), r.out.end(), loop_line);
-       it != std::sregex_iterator(); ++it, ++loops)
-    EXPECT_EQ(std::stoi((*it)[1]), 40) << it->str();
-  EXPECT_EQ(loops, 3);  // one line per growth step, for the loop before it
-  // Three growth steps: a loop before each of them and after the last, 40 steps each.
-  EXPECT_NE(r.out.find("growth: 3 growth steps, 160 inner steps (inner_loop fixed_steps: 40 per "
-                       "loop)"),
-            std::string::npos)
-      << r.out;
 }
