@@ -38,7 +38,8 @@ InnerLoop read_inner_loop(const MapView& m, double steady_tolerance) {
 
 GrowthSection read_growth_section(const Checker& c, const Node& node, const MeshNames& names,
                                   const std::vector<std::string>& stacked_blocks,
-                                  const MeshMotionSettings& mesh_motion, double steady_tolerance) {
+                                  const MeshMotionSettings& mesh_motion, int inner_steps,
+                                  double steady_tolerance) {
   GrowthSection g;
   GrowthSettings& s = g.settings;
   s.mesh_motion = mesh_motion;
@@ -71,6 +72,10 @@ GrowthSection read_growth_section(const Checker& c, const Node& node, const Mesh
                {{"stationary", GrowthAveraging::Stationary}, {"window", GrowthAveraging::Window}},
                std::optional<GrowthAveraging>(g.averaging));
   g.window = get_int(m, "window", 1, g.window);
+  if (g.averaging == GrowthAveraging::Window && g.window > inner_steps)
+    c.fail(*m.get("window"), m.key("window"), "a window longer than the inner loop",
+           std::to_string(g.window),
+           "at most time.steps (" + std::to_string(inner_steps) + ") inner steps");
   g.inner_loop = read_inner_loop(m, steady_tolerance);
   g.reference_update = get_enum(
       m, "reference_update", {{"reset", ReferenceUpdate::Reset}, {"keep", ReferenceUpdate::Keep}},

@@ -44,12 +44,14 @@ struct GrowthSection {
 };
 
 // `stacked_blocks`: the box mesh's blocks bottom to top (empty for a Gmsh mesh), whose
-// interfaces' faces belong to the block below. `steady_tolerance`: time.steady_tolerance, which
-// decides inner_loop's default (until_stationary when > 0, else fixed_steps) and must agree with
-// it when inner_loop is given.
+// interfaces' faces belong to the block below. `inner_steps` and `steady_tolerance`: time.steps
+// (the longest inner loop, which the window must fit) and time.steady_tolerance, which decides
+// inner_loop's default (until_stationary when > 0, else fixed_steps) and must agree with it when
+// inner_loop is given.
 GrowthSection read_growth_section(const scene_input::Checker& c, const scene_input::Node& node,
                                   const scene_input::MeshNames& names,
                                   const std::vector<std::string>& stacked_blocks,
-                                  const MeshMotionSettings& mesh_motion, double steady_tolerance);
+                                  const MeshMotionSettings& mesh_motion, int inner_steps,
+                                  double steady_tolerance);
 
 }  // namespace biofsi

@@ -489,7 +489,7 @@ Scene read_scene(const Node& root, const Checker& c) {
   const MeshMotionSettings mesh_motion =
       read_mesh_motion_section(c, m.get("mesh_motion").value_or(Node()), names);
   scene.growth = read_growth_section(c, m.get("growth").value_or(Node()), names, stacked_blocks,
-                                     mesh_motion, scene.time.steady_tolerance);
+                                     mesh_motion, scene.time.steps, scene.time.steady_tolerance);
   const bool coupled = scene.structure.enabled && scene.fluid.enabled;
   if (scene.structure.enabled && !scene.fluid.enabled &&
       (scene.scalar.enabled || scene.growth.enabled))

@@ -917,7 +917,7 @@ TEST(Scene, ReadsTheInnerLoopAndTheReferenceUpdateOfTheGrowthLoop) {
   EXPECT_EQ(fixed.growth.reference_update, ReferenceUpdate::Keep);
 }
 
-TEST(Scene, RefusesAnInnerLoopThatContradictsTheSteadyTolerance) {
+TEST(Scene, RefusesAGrowthLoopThatContradictsTheTimeSection) {
   const std::string fixed = error_of(kFull, {kGrowth, "growth.inner_loop=fixed_steps"});
   EXPECT_TRUE(contains(fixed,
                        "growth.inner_loop: a fixed step count with "
@@ -932,6 +932,11 @@ TEST(Scene, RefusesAnInnerLoopThatContradictsTheSteadyTolerance) {
                        "time.steady_tolerance"))
       << stationary;
   EXPECT_TRUE(contains(stationary, "expected time.steady_tolerance > 0")) << stationary;
+  // A window longer than the inner loop (kFull: time.steps 10) could never be filled.
+  const std::string window =
+      error_of(kFull, {kGrowth, "growth.averaging=window", "growth.window=11"});
+  EXPECT_TRUE(contains(window, "growth.window: a window longer than the inner loop")) << window;
+  EXPECT_TRUE(contains(window, "expected at most time.steps (10) inner steps")) << window;
   const std::string unknown = error_of(kFull, {kGrowth, "growth.reference_update=relax"});
   EXPECT_TRUE(contains(unknown, "growth.reference_update: unknown value")) << unknown;
   EXPECT_TRUE(contains(unknown, "expected one of reset, keep")) << unknown;
