@@ -500,11 +500,12 @@ Scene read_scene(const Node& root, const Checker& c) {
   scene.fsi = read_fsi_section(c, m.get("fsi").value_or(Node()), names, coupled, scene.fluid,
                                scene.growth.enabled ? scene.growth.settings.interface_set : "",
                                mesh_motion);
-  // The interface moves with the biofilm: never one of the open boundaries held fixed.
-  const std::vector<std::string> open_boundaries = inflow_outflow_boundaries(
-      scene.fluid, coupled ? scene.fsi.interface : scene.growth.settings.interface_set);
-  hold_inflow_outflow(scene.growth.settings.mesh_motion, open_boundaries);
-  hold_inflow_outflow(scene.fsi.mesh_motion, open_boundaries);
+  // The fluid mesh of the coupled solve (the inner loop's ALE map) keeps the flow's inflow and
+  // outflow Eulerian; a growth step's mesh motion does not: the interface's end nodes on those
+  // boundaries rise with the film, and nodes held above them would be overtaken (an inverted
+  // element within one fluid element's height of growth).
+  hold_inflow_outflow(scene.fsi.mesh_motion,
+                      inflow_outflow_boundaries(scene.fluid, scene.fsi.interface));
   set_time_and_solver(scene);
   return scene;
 }

@@ -942,27 +942,27 @@ TEST(Scene, RefusesAGrowthLoopThatContradictsTheTimeSection) {
   EXPECT_TRUE(contains(unknown, "expected one of reset, keep")) << unknown;
 }
 
-TEST(Scene, HoldsTheFlowsInflowAndOutflowFixedUnlessTheWallsDecide) {
+TEST(Scene, HoldsTheFlowsInflowAndOutflowFixedInTheCoupledSolveUnlessTheWallsDecide) {
   // kFluid: velocity on left, do_nothing on right, pressure on bottom; no_slip on the interface.
+  // with_structure's fsi section: fixed_walls [bottom, top], sliding_walls [left, right].
+  const std::vector<std::string> walls_only = {"bottom", "top"};
   const std::vector<std::string> open_fixed = {"bottom", "top", "left", "right"};
-  const Scene fixed = parse_scene(with_fluid(kFull), kFile, {kGrowth});
-  EXPECT_EQ(fixed.growth.settings.mesh_motion.inflow_outflow, InflowOutflow::Fixed);
-  EXPECT_EQ(fixed.growth.settings.mesh_motion.fixed_walls, open_fixed);
+  const Scene fixed = parse_scene(with_structure(kFull), kFile, {kGrowth});
+  EXPECT_EQ(fixed.fsi.mesh_motion.inflow_outflow, InflowOutflow::Fixed);
+  EXPECT_EQ(fixed.fsi.mesh_motion.fixed_walls, open_fixed);
+  EXPECT_EQ(fixed.fsi.mesh_motion.sliding_walls, (std::vector<std::string>{"left", "right"}));
+  // A growth step's mesh motion keeps its wall lists: the interface's end nodes rise along them.
+  EXPECT_EQ(fixed.growth.settings.mesh_motion.fixed_walls, walls_only);
   const Scene walls =
-      parse_scene(with_fluid(kFull), kFile, {kGrowth, "mesh_motion.inflow_outflow=walls"});
-  EXPECT_EQ(walls.growth.settings.mesh_motion.fixed_walls,
-            (std::vector<std::string>{"bottom", "top"}));
-  EXPECT_EQ(walls.growth.settings.mesh_motion.sliding_walls,
-            (std::vector<std::string>{"left", "right", "front", "back"}));
+      parse_scene(with_structure(kFull), kFile, {kGrowth, "mesh_motion.inflow_outflow=walls"});
+  EXPECT_EQ(walls.fsi.mesh_motion.inflow_outflow, InflowOutflow::Walls);
+  EXPECT_EQ(walls.fsi.mesh_motion.fixed_walls, walls_only);
   // A velocity condition on the FSI interface is its motion, not an inflow.
-  const Scene coupled =
+  const Scene moving =
       parse_scene(replaced(with_structure(kFull), "{boundary: biofilm_fluid, type: no_slip}",
                            "{boundary: biofilm_fluid, type: velocity, value: [0, 0, 0]}"),
                   kFile);
-  EXPECT_EQ(coupled.fsi.mesh_motion.fixed_walls, open_fixed);
-  // No flow, nothing open.
-  EXPECT_EQ(parse_scene(kFull, kFile, {kGrowth}).growth.settings.mesh_motion.fixed_walls,
-            (std::vector<std::string>{"bottom", "top"}));
+  EXPECT_EQ(moving.fsi.mesh_motion.fixed_walls, open_fixed);
   const std::string bad = error_of(kFull, {"mesh_motion.inflow_outflow=sliding"});
   EXPECT_TRUE(contains(bad, "mesh_motion.inflow_outflow: unknown value")) << bad;
   EXPECT_TRUE(contains(bad, "expected one of fixed, walls")) << bad;
