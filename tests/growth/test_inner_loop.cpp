@@ -4,12 +4,14 @@
 // enters through the boundaries is consumed by the biofilm or stored.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/simulation.hpp"
