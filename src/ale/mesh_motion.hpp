@@ -17,12 +17,21 @@
 
 namespace biofsi {
 
+// The fluid mesh of the coupled solve at the flow's inflow and outflow boundaries.
+enum class InflowOutflow {
+  Fixed,  // Eulerian: those nodes do not move within an inner loop (the paper's section 2)
+  Walls   // as the wall lists say (on a sliding wall they slide)
+};
+
 struct MeshMotionSettings {
   double poisson_ratio = 0.3;  // of the pseudo-material, in [0, 0.5)
   double stiffening = 1.0;     // chi in (1/det J)^chi, >= 0
-  // Face sets on which mesh nodes slide (normal displacement zero) and sets held fixed.
+  // Face sets on which mesh nodes slide (normal displacement zero) and sets held fixed; with
+  // inflow_outflow = Fixed the scene adds the flow's inflow and outflow sets to the coupled
+  // solve's fixed_walls (hold_inflow_outflow). Interface nodes on a wall follow the interface.
   std::vector<std::string> sliding_walls = {"left", "right", "front", "back"};
   std::vector<std::string> fixed_walls = {"bottom", "top"};
+  InflowOutflow inflow_outflow = InflowOutflow::Fixed;
   double min_quality = 0.02;  // smallest scaled Jacobian accepted after a move, in (0, 1)
   KrylovOptions krylov{1e-10, 0.0, 500, 50};
   Scatter scatter = Scatter::Colored;

@@ -1,5 +1,7 @@
 #include "ale/parameters.hpp"
 
+#include <algorithm>
+
 namespace biofsi {
 
 using namespace scene_input;
@@ -7,7 +9,8 @@ using namespace scene_input;
 MeshMotionSettings read_mesh_motion_section(const Checker& c, const Node& node,
                                             const MeshNames& names) {
   MapView m(c, node, "mesh_motion",
-            {"stiffening", "poisson_ratio", "min_quality", "sliding_walls", "fixed_walls"});
+            {"stiffening", "poisson_ratio", "min_quality", "sliding_walls", "fixed_walls",
+             "inflow_outflow"});
   MeshMotionSettings s;
   s.stiffening = get_number(
       m, "stiffening", [](double v) { return v >= 0; }, "a number >= 0", s.stiffening);
@@ -21,7 +24,18 @@ MeshMotionSettings read_mesh_motion_section(const Checker& c, const Node& node,
     s.sliding_walls = face_set_list(c, *n, m.key("sliding_walls"), names.face_sets);
   if (auto n = m.get("fixed_walls"))
     s.fixed_walls = face_set_list(c, *n, m.key("fixed_walls"), names.face_sets);
+  s.inflow_outflow = get_enum(m, "inflow_outflow",
+                              {{"fixed", InflowOutflow::Fixed}, {"walls", InflowOutflow::Walls}},
+                              std::optional<InflowOutflow>(s.inflow_outflow));
   return s;
+}
+
+void hold_inflow_outflow(MeshMotionSettings& settings,
+                         const std::vector<std::string>& inflow_outflow_sets) {
+  if (settings.inflow_outflow != InflowOutflow::Fixed) return;
+  auto& fixed = settings.fixed_walls;
+  for (const auto& set : inflow_outflow_sets)
+    if (std::find(fixed.begin(), fixed.end(), set) == fixed.end()) fixed.push_back(set);
 }
 
 }  // namespace biofsi

@@ -11,4 +11,9 @@ MeshMotionSettings read_mesh_motion_section(const scene_input::Checker& c,
                                             const scene_input::Node& node,
                                             const scene_input::MeshNames& names);
 
+// With inflow_outflow = Fixed, adds `inflow_outflow_sets` (the flow's inflow and outflow face
+// sets) to the fixed walls; otherwise leaves the walls as they are.
+void hold_inflow_outflow(MeshMotionSettings& settings,
+                         const std::vector<std::string>& inflow_outflow_sets);
+
 }  // namespace biofsi

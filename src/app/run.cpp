@@ -225,15 +225,10 @@ class Driver {
 
         const auto t0 = Clock::now();
         const std::string label = "growth step " + std::to_string(k + 1);
-        const InterfaceMotion im = interface_motion(sim_.mesh, gs, flux, shear);
-        const GrowthStepReport rep = grow(sim_.mesh, motion, gs, im, label);
-        if (sim_.fsi) {
-          sim_.fsi->set_reference(sim_.mesh);
-          sim_.scalar.update_coordinates(sim_.fsi->current_mesh());
-        } else {
-          sim_.scalar.update_coordinates(sim_.mesh);
-          if (sim_.fluid) sim_.fluid->update_coordinates(sim_.mesh, 0.0);
-        }
+        Mesh grown = sim_.growth_configuration(g.reference_update);
+        const InterfaceMotion im = interface_motion(grown, gs, flux, shear);
+        const GrowthStepReport rep = grow(grown, motion, gs, im, label);
+        sim_.take_grown_reference(grown, g.reference_update);
         totals_.seconds_growth += std::chrono::duration<double>(Clock::now() - t0).count();
         totals_.mesh_krylov_iterations += rep.krylov_iterations;
         totals_.largest_interface_step =
@@ -243,8 +238,11 @@ class Driver {
         note_quality(rep.quality);
         if (!tty_)
           std::cout << label << ": inner loop " << r.steps << " steps ("
-                    << (r.stationary ? "stationary" : "not stationary") << ", change " << r.change
-                    << "), interface moved max " << rep.max_interface_displacement << " mm, mesh "
+                    << (g.inner_loop == InnerLoop::FixedSteps
+                            ? "fixed"
+                            : (r.stationary ? "stationary" : "not stationary"))
+                    << ", change " << r.change << "), interface moved max "
+                    << rep.max_interface_displacement << " mm, mesh "
                     << "quality " << format_range(rep.quality, sim_.mesh) << "\n";
         if (g.checkpoint) write_checkpoint(k + 1, growth_checkpoint_data(k + 1));
       }
@@ -253,8 +251,11 @@ class Driver {
     }
     if (tty_) std::cout << "\n";
     std::cout << "growth: " << totals_.steps << " growth steps, " << totals_.inner_steps
-              << " inner steps (" << totals_.stationary_loops
-              << " inner loops met steady_tolerance)\n";
+              << " inner steps (";
+    if (g.inner_loop == InnerLoop::FixedSteps)
+      std::cout << "inner_loop fixed_steps: " << scene_.time.steps << " per loop)\n";
+    else
+      std::cout << totals_.stationary_loops << " inner loops met steady_tolerance)\n";
     return finish();
   }
 

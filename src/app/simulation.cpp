@@ -101,6 +101,26 @@ std::vector<Point> Simulation::displacement() const {
   return fsi ? fsi->displacement() : structure->displacement();
 }
 
+Mesh Simulation::growth_configuration(ReferenceUpdate update) const {
+  return fsi && update == ReferenceUpdate::Reset ? fsi->current_mesh() : mesh;
+}
+
+void Simulation::take_grown_reference(const Mesh& grown, ReferenceUpdate update) {
+  mesh.x = grown.x;
+  if (!fsi) {
+    scalar.update_coordinates(mesh);
+    if (fluid) fluid->update_coordinates(mesh, 0.0);
+    return;
+  }
+  fsi->set_reference(mesh);
+  if (update == ReferenceUpdate::Reset) {
+    const std::vector<Point> zero(mesh.n_nodes(), Point{0, 0, 0});
+    structure->set_state(zero, structure->velocity(), structure->time());
+    fsi->set_mesh_displacement(zero);
+  }
+  scalar.update_coordinates(fsi->current_mesh());
+}
+
 void Simulation::after_flow_solve(const std::string& label) {
   if (!fsi) {
     if (fluid) scalar.set_convective_velocity(fluid->velocity());

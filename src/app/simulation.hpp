@@ -41,6 +41,13 @@ struct Simulation {
   void set_theta(double theta);
   // Per node: the structure's displacement on its nodes, with FSI the fluid mesh's elsewhere.
   std::vector<Point> displacement() const;
+  // The configuration a growth step moves: with FSI and ReferenceUpdate::Reset the deformed one
+  // (the paper's: the deformed shape grows), otherwise the reference.
+  Mesh growth_configuration(ReferenceUpdate update) const;
+  // The grown configuration becomes every field's reference. With FSI and Reset the structure's
+  // and the fluid mesh's displacements restart from zero on it (the biofilm stress-free, its
+  // velocity kept); with Keep they stay relative to the new reference.
+  void take_grown_reference(const Mesh& grown, ReferenceUpdate update);
   // The transport sees the flow on the configuration it was solved on: with FSI the deformed
   // mesh (checked against mesh_motion.min_quality), the ALE convective velocity c = u - u_grid in
   // the fluid and the biofilm's own velocity for its Phi div u_S term (c = 0 there: its mesh

@@ -94,6 +94,18 @@ FluidVectorFunction fluid_body_force(const FluidSection& section) {
   };
 }
 
+std::vector<std::string> inflow_outflow_boundaries(const FluidSection& section,
+                                                   const std::string& interface) {
+  std::vector<std::string> out;
+  if (!section.enabled) return out;
+  for (const FluidBcSpec& bc : section.boundary_conditions) {
+    const bool open = bc.type == FluidBcType::Velocity || bc.type == FluidBcType::Pressure ||
+                      bc.type == FluidBcType::DoNothing;
+    if (open && bc.boundary != interface) out.push_back(bc.boundary);
+  }
+  return out;
+}
+
 std::vector<FluidBoundaryCondition> fluid_boundary_conditions(const FluidSection& section) {
   std::vector<FluidBoundaryCondition> out;
   for (size_t i = 0; i < section.boundary_conditions.size(); ++i) {

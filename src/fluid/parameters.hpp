@@ -46,6 +46,11 @@ FluidSection read_fluid_section(const scene_input::MapView& fields,
                                 const scene_input::MeshNames& names);
 
 std::vector<FluidBoundaryCondition> fluid_boundary_conditions(const FluidSection& section);
+// The face sets through which the flow enters or leaves: those with a velocity, pressure or
+// do_nothing condition, except `interface` (the moving wall of an FSI or growth run). None when
+// the field is off.
+std::vector<std::string> inflow_outflow_boundaries(const FluidSection& section,
+                                                   const std::string& interface);
 // The section's body force as the field takes it, per unit mass (section.body_force must be set).
 FluidVectorFunction fluid_body_force(const FluidSection& section);
 

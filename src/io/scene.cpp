@@ -510,18 +510,25 @@ Scene read_scene(const Node& root, const Checker& c) {
   for (const auto& b : scene.box.blocks) stacked_blocks.push_back(b.name);
   const MeshMotionSettings mesh_motion =
       read_mesh_motion_section(c, m.get("mesh_motion").value_or(Node()), names);
-  scene.growth =
-      read_growth_section(c, m.get("growth").value_or(Node()), names, stacked_blocks, mesh_motion);
+  scene.growth = read_growth_section(c, m.get("growth").value_or(Node()), names, stacked_blocks,
+                                     mesh_motion, scene.time.steps, scene.time.steady_tolerance);
   check_growth_interface(c, m.get("growth").value_or(Node()), std::move(mesh), scene);
+  const bool coupled = scene.structure.enabled && scene.fluid.enabled;
   if (scene.structure.enabled && !scene.fluid.enabled &&
       (scene.scalar.enabled || scene.growth.enabled))
     c.fail((*m.get("fields"))["structure"], "fields.structure",
            "a structure without a fluid field beside the scalar or growth", std::nullopt,
            "a fields.fluid section as well (the flow loads the biofilm), or the structure alone "
            "(fields.scalar.enabled: false, no growth section)");
-  scene.fsi = read_fsi_section(
-      c, m.get("fsi").value_or(Node()), names, scene.structure.enabled && scene.fluid.enabled,
-      scene.fluid, scene.growth.enabled ? scene.growth.settings.interface_set : "", mesh_motion);
+  scene.fsi = read_fsi_section(c, m.get("fsi").value_or(Node()), names, coupled, scene.fluid,
+                               scene.growth.enabled ? scene.growth.settings.interface_set : "",
+                               mesh_motion);
+  // The fluid mesh of the coupled solve (the inner loop's ALE map) keeps the flow's inflow and
+  // outflow Eulerian; a growth step's mesh motion does not: the interface's end nodes on those
+  // boundaries rise with the film, and nodes held above them would be overtaken (an inverted
+  // element within one fluid element's height of growth).
+  hold_inflow_outflow(scene.fsi.mesh_motion,
+                      inflow_outflow_boundaries(scene.fluid, scene.fsi.interface));
   set_time_and_solver(scene);
   return scene;
 }

@@ -147,6 +147,7 @@ TEST(GrowthCaseB, IsSymmetricAndGrowsMoreAtTheCentreThanAtTheWalls) {
 // of the film meets the flow and sees a larger wall shear stress, so erosion (K2 sigma) removes
 // more there. The run also checks that every inner loop after the first reaches the scene's
 // steady_tolerance (the first starts from the initial field and needs longer).
+// The scene grows the undeformed reference (growth.reference_update: keep; its file says why).
 TEST(GrowthCaseC, GrowsMoreDownstreamThanUpstreamAndTheInnerLoopsBecomeStationary) {
   const fs::path dir = fresh_dir("c");
   const auto set = coarse();

@@ -731,7 +731,9 @@ TEST(Scene, ReadsTheStructureFieldAndTheCoupling) {
   EXPECT_EQ(m.density, 1e-3);
   EXPECT_EQ(s.fsi.interface, "biofilm_fluid");
   EXPECT_EQ(s.fsi.shape_derivatives, ShapeDerivatives::None);
-  EXPECT_EQ(s.fsi.mesh_motion.fixed_walls, (std::vector<std::string>{"bottom", "top"}));
+  // The fluid's inflow (left) and outflow (right, and bottom's pressure) join the fixed walls.
+  EXPECT_EQ(s.fsi.mesh_motion.fixed_walls,
+            (std::vector<std::string>{"bottom", "top", "left", "right"}));
   EXPECT_EQ(s.fsi.mesh_motion.sliding_walls, (std::vector<std::string>{"left", "right"}));
   EXPECT_EQ(s.fsi.rel_tol, 1e-7);
   EXPECT_EQ(s.fsi.max_iterations, 12);
@@ -894,6 +896,76 @@ TEST(Scene, ReadsProbesAndChecksTheirField) {
       error_of(with_fluid(kFull), {"output.probes=[{name: a, point: [0, 0], quantity: pressure}, "
                                    "{name: a, point: [1, 0], quantity: pressure}]"}),
       "duplicate probe name"));
+}
+
+const std::string kGrowth =
+    "growth={interface: biofilm_fluid, biofilm_block: biofilm, k1: 1.0e-3, dt_bio: 10, steps: 2}";
+
+TEST(Scene, ReadsTheInnerLoopAndTheReferenceUpdateOfTheGrowthLoop) {
+  const Scene s = parse_scene(kFull, kFile, {kGrowth});
+  EXPECT_TRUE(s.growth.enabled);
+  // kFull has time.steady_tolerance 1e-8: the stationarity stop is the default.
+  EXPECT_EQ(s.growth.inner_loop, InnerLoop::UntilStationary);
+  EXPECT_EQ(s.growth.reference_update, ReferenceUpdate::Reset);
+  EXPECT_EQ(parse_scene(kFull, kFile, {kGrowth, "time.steady_tolerance=0"}).growth.inner_loop,
+            InnerLoop::FixedSteps);
+  const Scene fixed =
+      parse_scene(kFull, kFile,
+                  {kGrowth, "time.steady_tolerance=0", "growth.inner_loop=fixed_steps",
+                   "growth.reference_update=keep"});
+  EXPECT_EQ(fixed.growth.inner_loop, InnerLoop::FixedSteps);
+  EXPECT_EQ(fixed.growth.reference_update, ReferenceUpdate::Keep);
+}
+
+TEST(Scene, RefusesAGrowthLoopThatContradictsTheTimeSection) {
+  const std::string fixed = error_of(kFull, {kGrowth, "growth.inner_loop=fixed_steps"});
+  EXPECT_TRUE(contains(fixed,
+                       "growth.inner_loop: a fixed step count with "
+                       "time.steady_tolerance 1e-08"))
+      << fixed;
+  EXPECT_TRUE(contains(fixed, "got 'fixed_steps'")) << fixed;
+  EXPECT_TRUE(contains(fixed, "expected no time.steady_tolerance (or 0)")) << fixed;
+  const std::string stationary =
+      error_of(kFull, {kGrowth, "time.steady_tolerance=0", "growth.inner_loop=until_stationary"});
+  EXPECT_TRUE(contains(stationary,
+                       "growth.inner_loop: the stationarity stop without "
+                       "time.steady_tolerance"))
+      << stationary;
+  EXPECT_TRUE(contains(stationary, "expected time.steady_tolerance > 0")) << stationary;
+  // A window longer than the inner loop (kFull: time.steps 10) could never be filled.
+  const std::string window =
+      error_of(kFull, {kGrowth, "growth.averaging=window", "growth.window=11"});
+  EXPECT_TRUE(contains(window, "growth.window: a window longer than the inner loop")) << window;
+  EXPECT_TRUE(contains(window, "expected at most time.steps (10) inner steps")) << window;
+  const std::string unknown = error_of(kFull, {kGrowth, "growth.reference_update=relax"});
+  EXPECT_TRUE(contains(unknown, "growth.reference_update: unknown value")) << unknown;
+  EXPECT_TRUE(contains(unknown, "expected one of reset, keep")) << unknown;
+}
+
+TEST(Scene, HoldsTheFlowsInflowAndOutflowFixedInTheCoupledSolveUnlessTheWallsDecide) {
+  // kFluid: velocity on left, do_nothing on right, pressure on bottom; no_slip on the interface.
+  // with_structure's fsi section: fixed_walls [bottom, top], sliding_walls [left, right].
+  const std::vector<std::string> walls_only = {"bottom", "top"};
+  const std::vector<std::string> open_fixed = {"bottom", "top", "left", "right"};
+  const Scene fixed = parse_scene(with_structure(kFull), kFile, {kGrowth});
+  EXPECT_EQ(fixed.fsi.mesh_motion.inflow_outflow, InflowOutflow::Fixed);
+  EXPECT_EQ(fixed.fsi.mesh_motion.fixed_walls, open_fixed);
+  EXPECT_EQ(fixed.fsi.mesh_motion.sliding_walls, (std::vector<std::string>{"left", "right"}));
+  // A growth step's mesh motion keeps its wall lists: the interface's end nodes rise along them.
+  EXPECT_EQ(fixed.growth.settings.mesh_motion.fixed_walls, walls_only);
+  const Scene walls =
+      parse_scene(with_structure(kFull), kFile, {kGrowth, "mesh_motion.inflow_outflow=walls"});
+  EXPECT_EQ(walls.fsi.mesh_motion.inflow_outflow, InflowOutflow::Walls);
+  EXPECT_EQ(walls.fsi.mesh_motion.fixed_walls, walls_only);
+  // A velocity condition on the FSI interface is its motion, not an inflow.
+  const Scene moving =
+      parse_scene(replaced(with_structure(kFull), "{boundary: biofilm_fluid, type: no_slip}",
+                           "{boundary: biofilm_fluid, type: velocity, value: [0, 0, 0]}"),
+                  kFile);
+  EXPECT_EQ(moving.fsi.mesh_motion.fixed_walls, open_fixed);
+  const std::string bad = error_of(kFull, {"mesh_motion.inflow_outflow=sliding"});
+  EXPECT_TRUE(contains(bad, "mesh_motion.inflow_outflow: unknown value")) << bad;
+  EXPECT_TRUE(contains(bad, "expected one of fixed, walls")) << bad;
 }
 
 }  // namespace
