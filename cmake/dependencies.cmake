@@ -30,6 +30,12 @@ if(NOT BIOFSI_KERNELS_ONLY)
   pkg_check_modules(MUPARSER REQUIRED IMPORTED_TARGET muparser)
   find_package(yaml-cpp REQUIRED)
   find_package(Eigen3 REQUIRED NO_MODULE)
+  # UMFPACK (SuiteSparse, Debian's libsuitesparse-dev) for the sparse direct preconditioner.
+  find_path(UMFPACK_INCLUDE_DIR umfpack.h PATH_SUFFIXES suitesparse REQUIRED)
+  find_library(UMFPACK_LIBRARY umfpack REQUIRED)
+  add_library(biofsi::umfpack INTERFACE IMPORTED)
+  set_target_properties(biofsi::umfpack PROPERTIES INTERFACE_INCLUDE_DIRECTORIES
+                        "${UMFPACK_INCLUDE_DIR}" INTERFACE_LINK_LIBRARIES "${UMFPACK_LIBRARY}")
   set(HDF5_PREFER_PARALLEL TRUE)
   find_package(HDF5 REQUIRED COMPONENTS C)
   if(NOT HDF5_IS_PARALLEL)

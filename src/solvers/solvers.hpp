@@ -131,12 +131,11 @@ class BoomerAmg {
   double setup_seconds_ = 0;
 };
 
-// Sparse LU factorisation of an assembled matrix (Eigen's supernodal SparseLU, fill-reducing
-// COLAMD ordering), used as an exact preconditioner where the factors stay small: pseudo-2-D and
-// small 3-D problems, whose block-preconditioned Krylov solves otherwise need hundreds of
-// iterations (bench/README.md). The symbolic analysis is kept while the sparsity pattern is
-// unchanged, so a Newton step refactors numerically only. Runs on the host, one thread; vectors
-// cross to host memory at each application.
+// Sparse LU factorisation of an assembled matrix (UMFPACK, its own fill-reducing ordering), used as
+// an exact preconditioner where the factors stay small: pseudo-2-D and small 3-D problems, whose
+// block-preconditioned Krylov solves otherwise need hundreds of iterations (bench/README.md). The
+// symbolic analysis is kept while the sparsity pattern is unchanged, so a Newton step refactors
+// numerically only. Runs on the host, one thread; vectors cross to host memory at each application.
 class SparseLu {
  public:
   SparseLu();

@@ -1,9 +1,11 @@
-// SparseLu: an assembled CsrMatrix copied into Eigen's column-major sparse format and factored
-// with Eigen::SparseLU; the analysis (ordering, elimination tree) is redone only when the
-// sparsity pattern changes.
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
+// SparseLu: an assembled CsrMatrix factored by UMFPACK (SuiteSparse's multifrontal LU); the
+// symbolic analysis (ordering, elimination tree) is redone only when the sparsity pattern changes.
+//
+// UMFPACK takes compressed columns; a CSR matrix's arrays are the compressed columns of its
+// transpose, so they are handed over as they are, Aᵀ is factored, and each solve asks for the
+// transposed system (UMFPACK_At), which is A z = r: no copy into column storage.
+#include <umfpack.h>
+
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,25 +14,42 @@
 
 namespace biofsi {
 
+struct SparseLu::Impl {
+  std::vector<int> row_ptr, col;  // the pattern the analysis was made for
+  std::vector<double> val;
+  void* symbolic = nullptr;
+  void* numeric = nullptr;
+  double control[UMFPACK_CONTROL];
+  double info[UMFPACK_INFO];
+  mutable std::vector<double> rhs, solution;
+
+  Impl() { umfpack_di_defaults(control); }
+  ~Impl() {
+    free_numeric();
+    free_symbolic();
+  }
+  void free_numeric() {
+    if (numeric) umfpack_di_free_numeric(&numeric);
+    numeric = nullptr;
+  }
+  void free_symbolic() {
+    if (symbolic) umfpack_di_free_symbolic(&symbolic);
+    symbolic = nullptr;
+  }
+};
+
 namespace {
 
-using EigenCsr = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
-using EigenCsc = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-using HostConstVector = Kokkos::View<const Real*, HostSpace>;
+[[noreturn]] void fail(const char* phase, int status, int rows) {
+  std::string why = "UMFPACK status " + std::to_string(status);
+  if (status == UMFPACK_WARNING_singular_matrix) why = "the matrix is singular";
+  if (status == UMFPACK_ERROR_out_of_memory) why = "out of memory";
+  if (status == UMFPACK_ERROR_invalid_matrix) why = "invalid matrix (unsorted or repeated columns)";
+  throw std::runtime_error(std::string("sparse LU ") + phase + " failed (" + std::to_string(rows) +
+                           " rows): " + why);
+}
 
 }  // namespace
-
-struct SparseLu::Impl {
-  EigenCsc matrix;
-  // COLAMD by measurement on case (c)'s fluid Jacobian (13448 rows, 761664 nonzeros): fill 10.2M
-  // nonzeros and about 1 s per factorisation, against 78M (AMD) and 70M (METIS nested dissection,
-  // Eigen/MetisSupport) and 30-50 s. SparseLU's symbolic factorisation makes room for any row
-  // pivoting, i.e. for the structure of A^T A, which COLAMD orders for and the symmetric orderings
-  // of A + A^T do not.
-  Eigen::SparseLU<EigenCsc, Eigen::COLAMDOrdering<int>> lu;
-  std::vector<int> pattern_row_ptr, pattern_col;  // the pattern the analysis was made for
-  mutable Eigen::VectorXd rhs, solution;
-};
 
 SparseLu::SparseLu() : impl_(new Impl) {}
 SparseLu::~SparseLu() { delete impl_; }
@@ -38,38 +57,49 @@ SparseLu::~SparseLu() { delete impl_; }
 void SparseLu::setup(const CsrMatrix& a) {
   Impl& m = *impl_;
   std::vector<int> row_ptr = to_host(a.row_ptr), col = to_host(a.col);
-  const std::vector<double> val = to_host(a.val);
-  const Eigen::Map<const EigenCsr> csr(a.n_rows, a.n_rows, a.nnz(), row_ptr.data(), col.data(),
-                                       val.data());
-  m.matrix = csr;  // the transposing copy into column-major storage
-  m.matrix.makeCompressed();
-  if (row_ptr != m.pattern_row_ptr || col != m.pattern_col) {
-    m.lu.analyzePattern(m.matrix);
-    m.pattern_row_ptr = std::move(row_ptr);
-    m.pattern_col = std::move(col);
+  m.val = to_host(a.val);
+  const int n = a.n_rows;
+  m.free_numeric();
+  if (!m.symbolic || row_ptr != m.row_ptr || col != m.col) {
+    m.free_symbolic();
+    m.row_ptr = std::move(row_ptr);
+    m.col = std::move(col);
+    const int status = umfpack_di_symbolic(n, n, m.row_ptr.data(), m.col.data(), m.val.data(),
+                                           &m.symbolic, m.control, m.info);
+    if (status != UMFPACK_OK) {
+      m.free_symbolic();
+      fail("analysis", status, n);
+    }
   }
-  m.lu.factorize(m.matrix);
-  if (m.lu.info() != Eigen::Success) {
-    m.pattern_row_ptr.clear();  // analyse afresh next time
-    throw std::runtime_error("sparse LU factorisation failed (" + std::to_string(a.n_rows) +
-                             " rows): " + m.lu.lastErrorMessage());
+  const int status = umfpack_di_numeric(m.row_ptr.data(), m.col.data(), m.val.data(), m.symbolic,
+                                        &m.numeric, m.control, m.info);
+  if (status != UMFPACK_OK) {
+    m.free_numeric();
+    m.free_symbolic();  // analyse afresh next time
+    fail("factorisation", status, n);
   }
-  m.rhs.resize(a.n_rows);
-  m.solution.resize(a.n_rows);
+  m.rhs.resize(n);
+  m.solution.resize(n);
 }
 
 void SparseLu::apply(ConstVector r, Vector z) const {
   Impl& m = *impl_;
   const auto rh = Kokkos::create_mirror_view_and_copy(HostSpace(), r);
-  for (Eigen::Index i = 0; i < m.rhs.size(); ++i) m.rhs[i] = rh(i);
-  m.solution = m.lu.solve(m.rhs);
+  for (size_t i = 0; i < m.rhs.size(); ++i) m.rhs[i] = rh(i);
+  const int status =
+      umfpack_di_solve(UMFPACK_At, m.row_ptr.data(), m.col.data(), m.val.data(), m.solution.data(),
+                       m.rhs.data(), m.numeric, m.control, m.info);
+  if (status != UMFPACK_OK) fail("solve", status, static_cast<int>(m.rhs.size()));
   auto zh = Kokkos::create_mirror_view(z);
-  for (Eigen::Index i = 0; i < m.solution.size(); ++i) zh(i) = m.solution[i];
+  for (size_t i = 0; i < m.solution.size(); ++i) zh(i) = m.solution[i];
   Kokkos::deep_copy(z, zh);
 }
 
 long SparseLu::factor_nonzeros() const {
-  return static_cast<long>(impl_->lu.nnzL()) + static_cast<long>(impl_->lu.nnzU());
+  int lnz = 0, unz = 0, rows = 0, cols = 0, diagonal = 0;
+  if (!impl_->numeric) return 0;
+  umfpack_di_get_lunz(&lnz, &unz, &rows, &cols, &diagonal, impl_->numeric);
+  return static_cast<long>(lnz) + unz;
 }
 
 }  // namespace biofsi
