@@ -59,7 +59,8 @@ def panel(ax, case_dir, step, vmax):
     ax.set_aspect("equal")
     ax.set_xlim(coords[:, 0].min(), coords[:, 0].max())
     ax.set_ylim(coords[:, 1].min(), coords[:, 1].max())
-    ax.set_title("%s, growth step %d" % (os.path.basename(case_dir.rstrip("/")), step), fontsize=8)
+    # Two lines: long case names (c_shear_quasi_steady) would run into the next panel's title.
+    ax.set_title("%s\ngrowth step %d" % (os.path.basename(case_dir.rstrip("/")), step), fontsize=8)
     ax.tick_params(labelsize=6)
     return image
 
