@@ -273,40 +273,38 @@ void FsiProblem::set_reference(const Mesh& mesh) {
 
 namespace {
 
-// xs = x with the condensed entries recomputed from the structure's: u_F = a s + b, d_G = d_n + s.
-void sync_state(const FsiProblem::Impl& m, ConstVector x, Vector xs, ConstVector d_n) {
-  copy(x, xs);
-  const int nn = m.nn;
+// f(n, c) for every interface node n and component c.
+template <class F>
+void for_interface_dofs(const FsiProblem::Impl& m, const char* label, F f) {
   auto iface = m.interface;
-  const double a = m.a;
-  auto b = m.b;
   Kokkos::parallel_for(
-      "biofsi::fsi_sync", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)), KOKKOS_LAMBDA(int i) {
-        const int n = iface(i);
-        for (int c = 0; c < 3; ++c) {
-          const Real s = xs(3 * n + c);
-          xs(3 * nn + 4 * n + c) = a * s + b(3 * n + c);
-          xs(7 * nn + 3 * n + c) = d_n(3 * n + c) + s;
-        }
+      label, Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)), KOKKOS_LAMBDA(int i) {
+        for (int c = 0; c < 3; ++c) f(iface(i), c);
       });
 }
 
-// The same for a direction: du_F = a ds, dd_G = ds.
-void sync_direction(const FsiProblem::Impl& m, ConstVector dx, Vector dxs) {
-  copy(dx, dxs);
+// xs = x with the condensed entries recomputed from the structure's: u_F = a s + b, d_G = d_n + s
+// for a state; du_F = a ds, dd_G = ds for a direction (b and d_n empty).
+void sync_condensed(const FsiProblem::Impl& m, ConstVector x, Vector xs, ConstVector b,
+                    ConstVector d_n) {
+  copy(x, xs);
   const int nn = m.nn;
-  auto iface = m.interface;
   const double a = m.a;
-  Kokkos::parallel_for(
-      "biofsi::fsi_sync_direction", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
-      KOKKOS_LAMBDA(int i) {
-        const int n = iface(i);
-        for (int c = 0; c < 3; ++c) {
-          const Real s = dxs(3 * n + c);
-          dxs(3 * nn + 4 * n + c) = a * s;
-          dxs(7 * nn + 3 * n + c) = s;
-        }
+  const bool state = b.extent(0) > 0;
+  for_interface_dofs(
+      m, "biofsi::fsi_sync", KOKKOS_LAMBDA(int n, int c) {
+        const Real s = xs(3 * n + c);
+        xs(3 * nn + 4 * n + c) = a * s + (state ? b(3 * n + c) : 0.0);
+        xs(7 * nn + 3 * n + c) = (state ? d_n(3 * n + c) : 0.0) + s;
       });
+}
+
+void sync_state(const FsiProblem::Impl& m, ConstVector x, Vector xs, ConstVector d_n) {
+  sync_condensed(m, x, xs, m.b, d_n);
+}
+
+void sync_direction(const FsiProblem::Impl& m, ConstVector dx, Vector dxs) {
+  sync_condensed(m, dx, dxs, ConstVector(), ConstVector());
 }
 
 // x_work = X + g_old + w (g - g_old), grid velocity (g - g_old) inv_dt, handed to the fluid.
@@ -329,43 +327,30 @@ void move_fluid_mesh(FsiProblem::Impl& m, ConstVector g) {
 
 // Interface force: the fluid's interface momentum rows added to the structure's free rows.
 void add_interface_rows(const FsiProblem::Impl& m, ConstVector fluid_rows, Vector structure_rows) {
-  auto iface = m.interface;
   auto fixed = m.structure_fixed;
-  Kokkos::parallel_for(
-      "biofsi::fsi_interface_force", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
-      KOKKOS_LAMBDA(int i) {
-        const int n = iface(i);
-        for (int c = 0; c < 3; ++c)
-          if (!fixed(3 * n + c)) structure_rows(3 * n + c) += fluid_rows(4 * n + c);
+  for_interface_dofs(
+      m, "biofsi::fsi_interface_force", KOKKOS_LAMBDA(int n, int c) {
+        if (!fixed(3 * n + c)) structure_rows(3 * n + c) += fluid_rows(4 * n + c);
       });
 }
 
 // Condensed rows: identity in the tangent (y = dx) or zero residual (dx = 0).
 void condensed_rows(const FsiProblem::Impl& m, ConstVector from, Vector y_fluid, Vector y_mesh,
                     bool zero) {
-  auto iface = m.interface;
   const int nn = m.nn;
-  Kokkos::parallel_for(
-      "biofsi::fsi_condensed_rows", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
-      KOKKOS_LAMBDA(int i) {
-        const int n = iface(i);
-        for (int c = 0; c < 3; ++c) {
-          y_fluid(4 * n + c) = zero ? 0.0 : from(3 * nn + 4 * n + c);
-          y_mesh(3 * n + c) = zero ? 0.0 : from(7 * nn + 3 * n + c);
-        }
+  for_interface_dofs(
+      m, "biofsi::fsi_condensed_rows", KOKKOS_LAMBDA(int n, int c) {
+        y_fluid(4 * n + c) = zero ? 0.0 : from(3 * nn + 4 * n + c);
+        y_mesh(3 * n + c) = zero ? 0.0 : from(7 * nn + 3 * n + c);
       });
 }
 
 // The condensed velocity entries of a fluid direction, from the structure's.
 void set_condensed_velocity(const FsiProblem::Impl& m, ConstVector ds, Vector df) {
-  auto iface = m.interface;
   const double a = m.a;
-  Kokkos::parallel_for(
-      "biofsi::fsi_condensed_velocity", Kokkos::RangePolicy<ExecSpace>(0, iface.extent(0)),
-      KOKKOS_LAMBDA(int i) {
-        const int n = iface(i);
-        for (int c = 0; c < 3; ++c) df(4 * n + c) = a * ds(3 * n + c);
-      });
+  for_interface_dofs(
+      m, "biofsi::fsi_condensed_velocity",
+      KOKKOS_LAMBDA(int n, int c) { df(4 * n + c) = a * ds(3 * n + c); });
 }
 
 }  // namespace

@@ -14,49 +14,41 @@
 
 namespace biofsi {
 
-FluidBoundaryCondition fluid_no_slip(const std::string& set) {
+namespace {
+FluidBoundaryCondition condition_on(const std::string& set, FluidBcKind kind,
+                                    std::array<FluidFunction, 3> value = {}) {
   FluidBoundaryCondition bc;
   bc.set = set;
-  bc.kind = FluidBcKind::Velocity;
+  bc.kind = kind;
+  bc.value = std::move(value);
   return bc;
+}
+}  // namespace
+
+FluidBoundaryCondition fluid_no_slip(const std::string& set) {
+  return condition_on(set, FluidBcKind::Velocity);
 }
 
 FluidBoundaryCondition fluid_velocity(const std::string& set, FluidFunction ux, FluidFunction uy,
                                       FluidFunction uz) {
-  FluidBoundaryCondition bc = fluid_no_slip(set);
-  bc.value = {std::move(ux), std::move(uy), std::move(uz)};
-  return bc;
+  return condition_on(set, FluidBcKind::Velocity, {std::move(ux), std::move(uy), std::move(uz)});
 }
 
 FluidBoundaryCondition fluid_slip(const std::string& set) {
-  FluidBoundaryCondition bc;
-  bc.set = set;
-  bc.kind = FluidBcKind::Slip;
-  return bc;
+  return condition_on(set, FluidBcKind::Slip);
 }
 
 FluidBoundaryCondition fluid_traction(const std::string& set, FluidFunction hx, FluidFunction hy,
                                       FluidFunction hz) {
-  FluidBoundaryCondition bc;
-  bc.set = set;
-  bc.kind = FluidBcKind::Traction;
-  bc.value = {std::move(hx), std::move(hy), std::move(hz)};
-  return bc;
+  return condition_on(set, FluidBcKind::Traction, {std::move(hx), std::move(hy), std::move(hz)});
 }
 
 FluidBoundaryCondition fluid_pressure(const std::string& set, FluidFunction p) {
-  FluidBoundaryCondition bc;
-  bc.set = set;
-  bc.kind = FluidBcKind::Pressure;
-  bc.value[0] = std::move(p);
-  return bc;
+  return condition_on(set, FluidBcKind::Pressure, {std::move(p), nullptr, nullptr});
 }
 
 FluidBoundaryCondition fluid_do_nothing(const std::string& set) {
-  FluidBoundaryCondition bc;
-  bc.set = set;
-  bc.kind = FluidBcKind::DoNothing;
-  return bc;
+  return condition_on(set, FluidBcKind::DoNothing);
 }
 
 FluidField::FluidField(const Mesh& mesh, const FluidSettings& settings,
@@ -422,16 +414,10 @@ NewtonResult FluidField::advance(const std::string& label) {
     options.abs_tol = std::max(options.abs_tol, 100 * std::numeric_limits<double>::epsilon() *
                                                     settings_.density * h3 * std::sqrt(s) * inv_dt);
   }
-  NewtonSystem sys;
-  sys.residual = [this](ConstVector u, Vector r) {
-    ScopedTimer t(stats_.seconds_residual);
-    residual(u, r);
-  };
-  sys.linearise = [this](ConstVector u) { linearise(u); };
-  sys.tangent = [this](ConstVector, ConstVector du, Vector y) {
-    ScopedTimer t(stats_.seconds_tangent);
-    apply_linearised(du, y);
-  };
+  NewtonSystem sys = timed_newton_system(
+      [this](ConstVector u, Vector r) { residual(u, r); }, [this](ConstVector u) { linearise(u); },
+      [this](ConstVector du, Vector y) { apply_linearised(du, y); }, stats_.seconds_residual,
+      stats_.seconds_tangent);
   sys.setup_preconditioner = [this](ConstVector u) { setup_preconditioner(u); };
   sys.precondition = [this](ConstVector r, Vector z) { precondition(r, z); };
   sys.symmetric = false;
@@ -444,17 +430,8 @@ NewtonResult FluidField::advance(const std::string& label) {
   stats_.newton_iterations += result.iterations;
   stats_.krylov_iterations += result.krylov_iterations;
   if (!result.converged || !all_finite(state_)) {
-    std::ostringstream why;
-    if (!result.converged && result.reason == "NaN")
-      why << "diverged: Newton produced NaN";
-    else if (!result.converged)
-      why << "diverged: Newton " << result.reason;
-    else
-      why << "diverged: Newton returned a non-finite state";
-    why << " after " << result.iterations << " iterations; residual history:";
-    for (double r : result.residual_history) why << ' ' << r;
     copy(state_old_, state_);
-    throw SolveError("fluid", label, why.str());
+    throw SolveError("fluid", label, newton_failure(result));
   }
   return result;
 }

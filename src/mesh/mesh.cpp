@@ -399,22 +399,27 @@ Kokkos::View<char*, MemSpace> Constraints::mask(int n_dofs) const {
   return m;
 }
 
-IndexView Constraints::dofs() const {
-  IndexView d("biofsi::constrained_dofs", value.size());
+namespace {
+// One column of the constraint map (its dofs or its values), on the device.
+template <class View, class Pick>
+View constraint_column(const std::map<int, double>& value, const char* label, Pick pick) {
+  View d(std::string(label), value.size());
   auto h = Kokkos::create_mirror_view(d);
   size_t i = 0;
-  for (const auto& kv : value) h(i++) = kv.first;
+  for (const auto& kv : value) h(i++) = pick(kv);
   Kokkos::deep_copy(d, h);
   return d;
 }
+}  // namespace
+
+IndexView Constraints::dofs() const {
+  return constraint_column<IndexView>(value, "biofsi::constrained_dofs",
+                                      [](const auto& kv) { return kv.first; });
+}
 
 Vector Constraints::values() const {
-  Vector d("biofsi::constrained_values", value.size());
-  auto h = Kokkos::create_mirror_view(d);
-  size_t i = 0;
-  for (const auto& kv : value) h(i++) = kv.second;
-  Kokkos::deep_copy(d, h);
-  return d;
+  return constraint_column<Vector>(value, "biofsi::constrained_values",
+                                   [](const auto& kv) { return kv.second; });
 }
 
 int position_in_sorted(const std::vector<int>& sorted, int node) {

@@ -228,19 +228,14 @@ double TransportField::storage_roundoff(double inv_dt) const {
 NewtonResult TransportField::advance(const std::string& label, double abs_floor) {
   NewtonOptions options = settings_.newton;
   options.abs_tol = std::max(options.abs_tol, abs_floor);
-  NewtonSystem sys;
-  sys.residual = [this](ConstVector u, Vector r) {
-    ScopedTimer t(stats_.seconds_residual);
-    residual(u, r);
-  };
-  sys.linearise = [this](ConstVector u) {
-    ScopedTimer t(stats_.seconds_linearise);
-    linearise(u);
-  };
-  sys.tangent = [this](ConstVector, ConstVector du, Vector y) {
-    ScopedTimer t(stats_.seconds_tangent);
-    apply_linearised(du, y);
-  };
+  NewtonSystem sys =
+      timed_newton_system([this](ConstVector u, Vector r) { residual(u, r); },
+                          [this](ConstVector u) {
+                            ScopedTimer t(stats_.seconds_linearise);
+                            linearise(u);
+                          },
+                          [this](ConstVector du, Vector y) { apply_linearised(du, y); },
+                          stats_.seconds_residual, stats_.seconds_tangent);
   sys.setup_preconditioner = [this](ConstVector u) {
     if (preconditioner_current_ && !settings_.rebuild_preconditioner_each_iteration) return;
     setup_preconditioner(u);
@@ -257,12 +252,8 @@ NewtonResult TransportField::advance(const std::string& label, double abs_floor)
   stats_.newton_iterations += result.iterations;
   stats_.krylov_iterations += result.krylov_iterations;
   if (!result.converged || !all_finite(phi_)) {
-    std::ostringstream why;
-    why << "Newton " << (result.converged ? "returned a non-finite solution" : result.reason)
-        << " after " << result.iterations << " iterations; residual history:";
-    for (double r : result.residual_history) why << ' ' << r;
     copy(phi_old_, phi_);
-    throw SolveError("scalar", label, why.str());
+    throw SolveError("scalar", label, newton_failure(result));
   }
   return result;
 }

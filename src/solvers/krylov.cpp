@@ -37,13 +37,17 @@ bool zero_rhs(Real b_norm, Vector x, KrylovResult& res) {
   return true;
 }
 
-// A non-finite right-hand side ("NaN") or a zero one (x = 0) needs no iteration.
-bool answered_without_iterating(Real b_norm, Vector x, KrylovResult& res) {
+// A non-finite right-hand side ("NaN") or a zero one (x = 0) needs no iteration; otherwise tol
+// is the stopping tolerance on the residual norm.
+bool answered_without_iterating(ConstVector b, Vector x, const KrylovOptions& opt,
+                                KrylovResult& res, Real& tol) {
+  const Real b_norm = norm2(b);
   if (!std::isfinite(b_norm)) {
     res.reason = "NaN";
     res.initial_residual = res.final_residual = b_norm;
     return true;
   }
+  tol = std::max(opt.abs_tol, opt.rel_tol * b_norm);
   return zero_rhs(b_norm, x, res);
 }
 
@@ -53,9 +57,8 @@ KrylovResult cg(const ApplyFn& apply, const ApplyFn& precondition, ConstVector b
                 const KrylovOptions& opt) {
   KrylovResult res;
   const int n = static_cast<int>(b.extent(0));
-  const Real b_norm = norm2(b);
-  if (answered_without_iterating(b_norm, x, res)) return res;
-  const Real tol = std::max(opt.abs_tol, opt.rel_tol * b_norm);
+  Real tol = 0;
+  if (answered_without_iterating(b, x, opt, res, tol)) return res;
 
   Vector r = make_vector("biofsi::cg::r", n);
   Vector z = make_vector("biofsi::cg::z", n);
@@ -132,9 +135,8 @@ KrylovResult fgmres(const ApplyFn& apply, const ApplyFn& precondition, ConstVect
                     const KrylovOptions& opt) {
   KrylovResult res;
   const int n = static_cast<int>(b.extent(0));
-  const Real b_norm = norm2(b);
-  if (answered_without_iterating(b_norm, x, res)) return res;
-  const Real tol = std::max(opt.abs_tol, opt.rel_tol * b_norm);
+  Real tol = 0;
+  if (answered_without_iterating(b, x, opt, res, tol)) return res;
   const int m = std::max(1, opt.restart);
 
   // Krylov basis v_0..v_m and preconditioned directions z_0..z_{m-1} (flexible: the preconditioner

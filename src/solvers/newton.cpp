@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <utility>
 
 #include "solvers/solvers.hpp"
@@ -354,6 +355,37 @@ NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOpti
     res.block_history.push_back(it.norms);
   }
   return res;
+}
+
+NewtonSystem timed_newton_system(std::function<void(ConstVector u, Vector r)> residual,
+                                 std::function<void(ConstVector u)> linearise,
+                                 std::function<void(ConstVector du, Vector y)> apply_linearised,
+                                 double& seconds_residual, double& seconds_tangent) {
+  NewtonSystem sys;
+  sys.residual = [residual, &seconds_residual](ConstVector u, Vector r) {
+    ScopedTimer t(seconds_residual);
+    residual(u, r);
+  };
+  sys.linearise = std::move(linearise);
+  sys.tangent = [apply_linearised, &seconds_tangent](ConstVector, ConstVector du, Vector y) {
+    ScopedTimer t(seconds_tangent);
+    apply_linearised(du, y);
+  };
+  return sys;
+}
+
+std::string newton_failure(const NewtonResult& result) {
+  std::ostringstream why;
+  why << "diverged: Newton ";
+  if (!result.converged && result.reason == "NaN")
+    why << "produced NaN";
+  else if (!result.converged)
+    why << result.reason;
+  else
+    why << "returned a non-finite state";
+  why << " after " << result.iterations << " iterations; residual history:";
+  for (double r : result.residual_history) why << ' ' << r;
+  return why.str();
 }
 
 }  // namespace biofsi

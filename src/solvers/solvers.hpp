@@ -196,6 +196,13 @@ struct NewtonSystem {
   std::function<bool(ConstVector u)> admissible;
 };
 
+// A field's system whose residual and stored-tangent application add their wall time to the
+// field's statistics; the caller adds the preconditioner and the optional pieces.
+NewtonSystem timed_newton_system(std::function<void(ConstVector u, Vector r)> residual,
+                                 std::function<void(ConstVector u)> linearise,
+                                 std::function<void(ConstVector du, Vector y)> apply_linearised,
+                                 double& seconds_residual, double& seconds_tangent);
+
 enum class LineSearch {
   // Backtracking (halving) on ||r||^2 with the Armijo test on the inexact-Newton slope bound.
   ResidualArmijo,
@@ -245,6 +252,10 @@ struct NewtonResult {
   std::string
       reason;  // "converged", "max iterations", "line search failed", "NaN", "linear solver"
 };
+
+// Why a field's Newton solve failed (it did not converge, or converged to a non-finite state):
+// "diverged: Newton <reason> after N iterations; residual history: r0 r1 ...".
+std::string newton_failure(const NewtonResult& result);
 
 // A time step that failed with `first`, retried as 2, 4, ... 2^max_cuts sub-steps: sub_step(dt,
 // label) takes one; restore() puts the fields back to the step's start after a failed try, so

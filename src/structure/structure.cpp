@@ -512,16 +512,10 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
   NewtonOptions options = settings_.newton;
   options.line_search = LineSearch::EnergyRegulaFalsi;
   stats_.last_step_krylov.clear();
-  NewtonSystem sys;
-  sys.residual = [this](ConstVector u, Vector r) {
-    ScopedTimer t(stats_.seconds_residual);
-    residual(u, r);
-  };
-  sys.linearise = [this](ConstVector u) { linearise(u); };
-  sys.tangent = [this](ConstVector, ConstVector du, Vector y) {
-    ScopedTimer t(stats_.seconds_tangent);
-    apply_linearised(du, y);
-  };
+  NewtonSystem sys = timed_newton_system(
+      [this](ConstVector u, Vector r) { residual(u, r); }, [this](ConstVector u) { linearise(u); },
+      [this](ConstVector du, Vector y) { apply_linearised(du, y); }, stats_.seconds_residual,
+      stats_.seconds_tangent);
   // The preconditioner is rebuilt at every Newton iteration: the tangent of a finite-strain
   // problem changes with the state, and a stale AMG hierarchy costs more Krylov iterations than its
   // set-up. Counting its applications between set-ups gives the Krylov iterations per Newton
@@ -545,11 +539,7 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
   stats_.newton_iterations += result.iterations;
   stats_.krylov_iterations += result.krylov_iterations;
   if (!result.converged || !all_finite(u_)) {
-    std::ostringstream why;
-    why << "Newton " << (result.converged ? "returned a non-finite solution" : result.reason)
-        << " after " << result.iterations << " iterations; residual history:";
-    for (double r : result.residual_history) why << ' ' << r;
-    throw SolveError("structure", label, why.str());
+    throw SolveError("structure", label, newton_failure(result));
   }
   end_step(dt);
   return result;

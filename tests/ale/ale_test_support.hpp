@@ -1,7 +1,8 @@
 // Shared set-up for the mesh-motion verification tests (src/ale, kernels/ale): box meshes, a smooth
 // fully 3-D distortion that keeps the boundary on the box, the pseudo-material that MeshMotion
-// builds from its settings, and host <-> device copies of flat dof vectors. Host code only: the
-// device work happens inside the library (element loops, csr_multiply, csr_diagonal).
+// builds from its settings (host <-> device copies of flat vectors: kernels/small_mesh.hpp). Host
+// code only: the device work happens inside the library (element loops, csr_multiply,
+// csr_diagonal).
 #pragma once
 
 #include <algorithm>
@@ -12,27 +13,12 @@
 
 #include "ale/mesh_motion.hpp"
 #include "kernels/ale/pointwise.hpp"
+#include "kernels/small_mesh.hpp"
 #include "mesh/mesh.hpp"
 #include "scalar/scalar_test_support.hpp"
 
 namespace biofsi {
 namespace test {
-
-using HostVector = std::vector<double>;
-
-inline HostVector to_host(ConstVector v) {
-  Kokkos::View<Real*, HostSpace> h(std::string("test::host"), v.extent(0));
-  Kokkos::deep_copy(h, v);
-  return HostVector(h.data(), h.data() + h.extent(0));
-}
-
-inline Vector to_device(const HostVector& v) {
-  Vector d(std::string("test::device"), v.size());
-  Kokkos::View<const Real*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(),
-                                                                                  v.size());
-  Kokkos::deep_copy(d, h);
-  return d;
-}
 
 // box_mesh(nx, nz, thickness, blocks) is shared with the scalar tests.
 

@@ -2,7 +2,8 @@
 // without src/ (the CUDA preset compiles only kernels/ and tests/kernels/). It has what the
 // element and face drivers need: coordinates and VTK-ordered connectivity as device Views (with
 // host mirrors for checks), a smooth non-affine distortion, two element blocks, a CSR sparsity
-// pattern, element groups for both scatter policies and boundary face lists.
+// pattern, element groups for both scatter policies and boundary face lists; host <-> device
+// copies of flat vectors.
 #pragma once
 
 #include <algorithm>
@@ -17,6 +18,22 @@
 
 namespace biofsi {
 namespace test {
+
+using HostVector = std::vector<double>;
+
+inline HostVector to_host(ConstVector v) {
+  Kokkos::View<Real*, HostSpace> h(std::string("test::host"), v.extent(0));
+  Kokkos::deep_copy(h, v);
+  return HostVector(h.data(), h.data() + h.extent(0));
+}
+
+inline Vector to_device(const HostVector& v) {
+  Vector d(std::string("test::device"), v.size());
+  Kokkos::View<const Real*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(),
+                                                                                  v.size());
+  Kokkos::deep_copy(d, h);
+  return d;
+}
 
 struct SmallMesh {
   int nx = 1, ny = 1, nz = 1;

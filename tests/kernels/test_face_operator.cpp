@@ -23,26 +23,14 @@ using biofsi::test::SmallMesh;
 
 namespace {
 
-using HostVector = std::vector<double>;
+using biofsi::test::HostVector;
+using biofsi::test::to_device;
+using biofsi::test::to_host;
 using RobinOperator = FaceOperator<TransportBoundaryPhysics>;
 
 const double box[3] = {1.0, 0.8, 0.6};
 
 SmallMesh test_mesh() { return biofsi::test::make_small_mesh(5, 4, 3, box, 0.04); }
-
-HostVector to_host(ConstVector v) {
-  Kokkos::View<Real*, HostSpace> h(std::string("host"), v.extent(0));
-  Kokkos::deep_copy(h, v);
-  return HostVector(h.data(), h.data() + h.extent(0));
-}
-
-Vector to_device(const HostVector& v) {
-  Vector d(std::string("device"), v.size());
-  Kokkos::View<const Real*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(),
-                                                                                  v.size());
-  Kokkos::deep_copy(d, h);
-  return d;
-}
 
 // Face data [phi_n, h, alpha, phi_inf] per node.
 template <class F>

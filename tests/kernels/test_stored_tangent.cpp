@@ -19,38 +19,15 @@
 #include <string>
 #include <vector>
 
+#include "kernel_test_states.hpp"
 #include "kernels/ale/pointwise.hpp"
 #include "kernels/core/stored_tangent.hpp"
-#include "kernels/fluid/pointwise.hpp"
 #include "kernels/scalar/pointwise.hpp"
-#include "kernels/structure/pointwise.hpp"
-#include "small_mesh.hpp"
 
 using namespace biofsi;
 using namespace biofsi::test;
 
 namespace {
-
-template <class F>
-Vector nodal(const SmallMesh& m, int nc, F f, const std::string& label) {
-  Vector v(label, nc * m.n_nodes());
-  auto h = Kokkos::create_mirror_view(v);
-  for (int n = 0; n < m.n_nodes(); ++n)
-    for (int c = 0; c < nc; ++c)
-      h(nc * n + c) = f(c, m.x_host(n, 0), m.x_host(n, 1), m.x_host(n, 2));
-  Kokkos::deep_copy(v, h);
-  return v;
-}
-
-template <class F>
-NodalView auxiliary(const SmallMesh& m, int na, F f) {
-  NodalView a(std::string("test::aux"), m.n_nodes(), na > 0 ? na : 1);
-  auto h = Kokkos::create_mirror_view(a);
-  for (int n = 0; n < m.n_nodes(); ++n)
-    for (int c = 0; c < na; ++c) h(n, c) = f(c, m.x_host(n, 0), m.x_host(n, 1), m.x_host(n, 2));
-  Kokkos::deep_copy(a, h);
-  return a;
-}
 
 // The scalar pattern expanded to nc unknowns per node (every component couples to every other).
 CsrMatrix block_pattern(const SmallMesh& m, int nc) {
@@ -75,14 +52,9 @@ CsrMatrix block_pattern(const SmallMesh& m, int nc) {
   return a;
 }
 
-std::vector<double> host(ConstVector v) {
-  auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), v);
-  return std::vector<double>(h.data(), h.data() + h.extent(0));
-}
-
 // max |a - b| / max |b|.
 double relative_difference(ConstVector a, ConstVector b) {
-  const auto ha = host(a), hb = host(b);
+  const auto ha = to_host(a), hb = to_host(b);
   double diff = 0, size = 0;
   for (size_t i = 0; i < ha.size(); ++i) {
     diff = std::max(diff, std::abs(ha[i] - hb[i]));
@@ -95,29 +67,36 @@ struct Defects {
   double apply_vs_on_the_fly = 0, apply_vs_matrix = 0, diagonal = 0, matrix = 0;
 };
 
+// A store's apply against the on-the-fly apply and against the on-the-fly matrix, assembled into
+// `a`.
+template <class Physics, class Store>
+Defects apply_defects(const ElementOperator<Physics>& op, const ElementGroups& groups,
+                      ConstVector u, ConstVector du, Store& store, const CsrMatrix& a) {
+  const int n = static_cast<int>(du.extent(0));
+  linearise(op, groups, u, store);
+  Defects d;
+  Vector y_fly("test::y_fly", n), y_stored("test::y_stored", n), y_matrix("test::y_matrix", n);
+  op.apply_tangent(groups, u, du, y_fly);
+  apply_stored(store, du, y_stored);
+  d.apply_vs_on_the_fly = relative_difference(y_stored, y_fly);
+  op.assemble(groups, u, a);
+  csr_multiply(a, du, y_matrix);
+  d.apply_vs_matrix = relative_difference(y_stored, y_matrix);
+  return d;
+}
+
 // Every product of the stored tangent against its on-the-fly counterpart.
 template <int W, class Physics>
 Defects stored_defects(const SmallMesh& m, const ElementOperator<Physics>& op, ConstVector u,
                        ConstVector du, Scatter scatter) {
   constexpr int NC = Physics::n_components;
-  const int n = NC * m.n_nodes();
   const ElementGroups groups = element_groups(m, scatter);
   StoredTangentOf<Physics, W> store;
-  linearise(op, groups, u, store);
-  Defects d;
-
-  Vector y_fly("test::y_fly", n), y_stored("test::y_stored", n), y_matrix("test::y_matrix", n);
-  op.apply_tangent(groups, u, du, y_fly);
-  apply_stored(store, du, y_stored);
-  d.apply_vs_on_the_fly = relative_difference(y_stored, y_fly);
-
   const CsrMatrix a_fly = block_pattern(m, NC), a_stored = block_pattern(m, NC);
-  op.assemble(groups, u, a_fly);
+  Defects d = apply_defects(op, groups, u, du, store, a_fly);
   assemble_stored(store, a_stored);
-  csr_multiply(a_fly, du, y_matrix);
-  d.apply_vs_matrix = relative_difference(y_stored, y_matrix);
   d.matrix = relative_difference(a_stored.val, a_fly.val);
-
+  const int n = NC * m.n_nodes();
   Vector diag_fly("test::diag_fly", n), diag_stored("test::diag_stored", n);
   op.diagonal(groups, u, diag_fly);
   diagonal_stored(store, diag_stored);
@@ -125,26 +104,13 @@ Defects stored_defects(const SmallMesh& m, const ElementOperator<Physics>& op, C
   return d;
 }
 
-// The point-state store (the fluid's): its apply against the on-the-fly apply and the assembled
-// matrix.
+// The point-state store (the fluid's) has no diagonal or assembly of its own.
 template <int W, class Physics>
 Defects point_state_defects(const SmallMesh& m, const ElementOperator<Physics>& op, ConstVector u,
                             ConstVector du, Scatter scatter) {
-  constexpr int NC = Physics::n_components;
-  const int n = NC * m.n_nodes();
-  const ElementGroups groups = element_groups(m, scatter);
   StoredPointStates<Physics, W> store;
-  linearise(op, groups, u, store);
-  Defects d;
-  Vector y_fly("test::y_fly", n), y_stored("test::y_stored", n), y_matrix("test::y_matrix", n);
-  op.apply_tangent(groups, u, du, y_fly);
-  apply_stored(store, du, y_stored);
-  d.apply_vs_on_the_fly = relative_difference(y_stored, y_fly);
-  const CsrMatrix a = block_pattern(m, NC);
-  op.assemble(groups, u, a);
-  csr_multiply(a, du, y_matrix);
-  d.apply_vs_matrix = relative_difference(y_stored, y_matrix);
-  return d;
+  return apply_defects(op, element_groups(m, scatter), u, du, store,
+                       block_pattern(m, Physics::n_components));
 }
 
 template <class Physics>
@@ -166,12 +132,6 @@ void expect_stored_equals_on_the_fly(const SmallMesh& m, const ElementOperator<P
 SmallMesh distorted_mesh() {
   const double length[3] = {1.0, 0.6, 0.3};
   return make_small_mesh(5, 4, 3, length, 0.04);
-}
-
-Vector direction(const SmallMesh& m, int nc) {
-  return nodal(
-      m, nc, [](int c, double x, double y, double z) { return std::sin(3 * x - y + c) + 0.2 * z; },
-      "test::du");
 }
 
 }  // namespace
@@ -206,18 +166,8 @@ TEST(StoredTangent, FluidEqualsOnTheFlyAndAssembled) {
   p.viscosity = 0.01;
   p.inv_dt = 20.0;
   p.theta = 0.66;
-  const NodalView aux = auxiliary(m, FluidPhysics::n_aux, [](int c, double x, double y, double z) {
-    if (c < 3) return 0.5 * std::sin(1.3 * x + c) * std::cos(y - 0.4 * z);
-    if (c < 6) return 0.1 * std::cos(x + 2 * y + c);
-    return 0.3 * (c - 7);
-  });
-  const ElementOperator<FluidPhysics> op(m.conn, m.x, m.block, aux, p);
-  const Vector u = nodal(
-      m, 4,
-      [](int c, double x, double y, double z) {
-        return c < 3 ? std::cos(2 * x + c) * std::sin(1 + y + 0.5 * z) : x * y - z;
-      },
-      "test::u");
+  const ElementOperator<FluidPhysics> op(m.conn, m.x, m.block, fluid_aux(m), p);
+  const Vector u = fluid_state(m);
   const Vector du = direction(m, 4);
   expect_stored_equals_on_the_fly(m, op, u, du);
   for (Scatter scatter : {Scatter::Atomic, Scatter::Colored})
@@ -236,19 +186,8 @@ TEST(StoredTangent, FluidPointStatesEqualOnTheFlyForEveryLinearisation) {
     p.density = 1.3, p.viscosity = 0.02, p.inv_dt = 5.0, p.theta = 0.66;
     p.linearisation = lin;
     p.symmetric_viscous = lin != FluidLinearisation::Picard;
-    const NodalView aux =
-        auxiliary(m, FluidPhysics::n_aux, [](int c, double x, double y, double z) {
-          if (c < 3) return 0.5 * std::sin(1.3 * x + c) * std::cos(y - 0.4 * z);
-          if (c < 6) return 0.1 * std::cos(x + 2 * y + c);
-          return 0.3 * (c - 7);
-        });
-    const ElementOperator<FluidPhysics> op(m.conn, m.x, m.block, aux, p);
-    const Vector u = nodal(
-        m, 4,
-        [](int c, double x, double y, double z) {
-          return c < 3 ? std::cos(2 * x + c) * std::sin(1 + y + 0.5 * z) : x * y - z;
-        },
-        "test::u");
+    const ElementOperator<FluidPhysics> op(m.conn, m.x, m.block, fluid_aux(m), p);
+    const Vector u = fluid_state(m);
     const Defects d = point_state_defects<simd_width>(m, op, u, direction(m, 4), Scatter::Colored);
     EXPECT_LT(d.apply_vs_on_the_fly, 1e-12);
     EXPECT_LT(d.apply_vs_matrix, 1e-12);
@@ -258,28 +197,9 @@ TEST(StoredTangent, FluidPointStatesEqualOnTheFlyForEveryLinearisation) {
 TEST(StoredTangent, StructureEqualsOnTheFlyAndAssembled) {
   const SmallMesh m = distorted_mesh();
   for (int model : {SaintVenantKirchhoff, NeoHooke}) {
-    StructurePhysics p;
-    for (int b = 0; b < 2; ++b) {
-      p.materials.model[b] = model;
-      p.materials.lambda[b] = 1.0 + b;
-      p.materials.mu[b] = 0.5;
-      p.materials.density[b] = 2.0;
-    }
-    p.mass_coefficient = 10.0;
-    p.dt = 0.1;
-    p.theta = 0.66;
-    const NodalView aux =
-        auxiliary(m, StructurePhysics::n_aux, [](int c, double x, double y, double z) {
-          if (c < 3) return 0.1 * std::sin(x + 2 * y + c) + 0.05 * z * (c == 0);
-          return 0.1 * std::cos(x - y + c);
-        });
-    const ElementOperator<StructurePhysics> op(m.conn, m.x, m.block, aux, p);
-    const Vector u = nodal(
-        m, 3,
-        [](int c, double x, double y, double z) {
-          return 0.05 * std::cos(2 * x + c) * (1 + y) - 0.02 * z;
-        },
-        "test::u");
+    const ElementOperator<StructurePhysics> op(m.conn, m.x, m.block, structure_aux(m, 0.1, 0.05),
+                                               structure_physics(model));
+    const Vector u = structure_state(m, 0.05, 0.02);
     expect_stored_equals_on_the_fly(m, op, u, direction(m, 3));
   }
 }

@@ -32,27 +32,15 @@ using biofsi::test::SmallMesh;
 namespace {
 
 constexpr double eps = std::numeric_limits<double>::epsilon();
-using HostVector = std::vector<double>;
+using biofsi::test::HostVector;
+using biofsi::test::to_device;
+using biofsi::test::to_host;
 using TransportOperator = ElementOperator<TransportPhysics>;
 
 const double box[3] = {1.0, 0.8, 0.6};
 
 // 5x4x3 elements, so the y-split puts whole element layers in each block; 4% distortion.
 SmallMesh test_mesh() { return biofsi::test::make_small_mesh(5, 4, 3, box, 0.04); }
-
-HostVector to_host(ConstVector v) {
-  Kokkos::View<Real*, HostSpace> h(std::string("host"), v.extent(0));
-  Kokkos::deep_copy(h, v);
-  return HostVector(h.data(), h.data() + h.extent(0));
-}
-
-Vector to_device(const HostVector& v) {
-  Vector d(std::string("device"), v.size());
-  Kokkos::View<const Real*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(),
-                                                                                  v.size());
-  Kokkos::deep_copy(d, h);
-  return d;
-}
 
 // A nodal field from a function of the node's coordinates.
 template <class F>
