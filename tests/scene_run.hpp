@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/run.hpp"
+#include "scratch_dir.hpp"
 
 namespace biofsi {
 namespace test {

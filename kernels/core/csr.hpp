@@ -47,17 +47,15 @@ inline void csr_multiply(const CsrMatrix& a, ConstVector x, Vector y) {
   csr_multiply_add(a, 1, x, 0, y);
 }
 
-// Diagonal of A.
+// Diagonal of A (zero where the pattern has no diagonal entry).
 inline void csr_diagonal(const CsrMatrix& a, Vector d) {
   auto rp = a.row_ptr;
   auto col = a.col;
   auto val = a.val;
   Kokkos::parallel_for(
       "biofsi::csr_diagonal", Kokkos::RangePolicy<ExecSpace>(0, a.n_rows), KOKKOS_LAMBDA(int r) {
-        Real s = 0;
-        for (int k = rp(r); k < rp(r + 1); ++k)
-          if (col(k) == r) s = val(k);
-        d(r) = s;
+        const int k = csr_find(rp.data(), col.data(), r, r);
+        d(r) = k >= 0 ? val(k) : Real(0);
       });
 }
 

@@ -44,6 +44,28 @@ struct ElementGroups {
   Scatter scatter = Scatter::Atomic;
 };
 
+// Greedy colouring on the host: each of `items` (ids below n) in turn takes the smallest colour
+// that no item it conflicts with has taken; for_conflicts(i, visit) calls visit(j) for each item j
+// that conflicts with i (shares a node with it). Returns the items of each colour.
+template <class ForConflicts>
+std::vector<std::vector<int>> greedy_colouring(const std::vector<int>& items, int n,
+                                               ForConflicts for_conflicts) {
+  std::vector<int> colour(n, -1);
+  std::vector<std::vector<int>> groups;
+  for (int i : items) {
+    std::vector<char> used(groups.size() + 1, 0);
+    for_conflicts(i, [&](int j) {
+      if (colour[j] >= 0) used[colour[j]] = 1;
+    });
+    int c = 0;
+    while (used[c]) ++c;
+    colour[i] = c;
+    if (c == static_cast<int>(groups.size())) groups.emplace_back();
+    groups[c].push_back(i);
+  }
+  return groups;
+}
+
 namespace detail {
 
 // Physics::n_aux_gradients if declared, else Physics::n_aux.

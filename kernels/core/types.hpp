@@ -38,12 +38,14 @@ using ConstNodalView = Kokkos::View<const Real**, Kokkos::LayoutRight, MemSpace>
 // Device-callable math: Kokkos moved these from Kokkos::Experimental to Kokkos in 3.6.
 namespace math {
 #if KOKKOS_VERSION >= 30600
+using Kokkos::atan;
 using Kokkos::exp;
 using Kokkos::fabs;
 using Kokkos::log;
 using Kokkos::sqrt;
 using Kokkos::tanh;
 #else
+using Kokkos::Experimental::atan;
 using Kokkos::Experimental::exp;
 using Kokkos::Experimental::fabs;
 using Kokkos::Experimental::log;

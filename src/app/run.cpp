@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "app/report.hpp"
+#include "app/restart.hpp"
 #include "app/simulation.hpp"
 #include "growth/growth.hpp"
 #include "io/output.hpp"
@@ -409,8 +410,14 @@ class Driver {
     return data;
   }
 
+  // With the mesh itself (connectivity and element blocks), so that a restart on another mesh of
+  // the domain can interpolate the state.
   Datasets flow_checkpoint_data(int step) const {
+    std::vector<double> conn, block(sim_.mesh.element_block.begin(), sim_.mesh.element_block.end());
+    for (const auto& c : sim_.mesh.conn) conn.insert(conn.end(), c.begin(), c.end());
     Datasets data = {{"coordinates", flat(sim_.mesh.x)},
+                     {"connectivity", conn},
+                     {"element_block", block},
                      {"step", {static_cast<double>(step)}},
                      {"time", {sim_.time()}}};
     for (auto& d : flow_state()) data.push_back(std::move(d));
@@ -484,8 +491,9 @@ class Driver {
     return out;
   }
 
-  // Restores a transient flow run's state from its checkpoint (flow_checkpoint_data) on the
-  // scene's own mesh; returns the step it was taken after.
+  // Restores a transient flow run's state from its checkpoint (flow_checkpoint_data): written on
+  // the scene's own mesh, or on another mesh of the same domain and blocks, whose state is then
+  // interpolated onto the scene's (restart.hpp). Returns the step it was taken after.
   int read_flow_checkpoint(const std::string& path) {
     if (scene_.scalar.enabled || !sim_.flow_is_transient())
       throw SceneError("--restart " + path +
@@ -493,31 +501,108 @@ class Driver {
                        "a scene whose steps a checkpoint can continue");
     const auto step = read_restart(path, "step");
     const auto time = read_restart(path, "time");
-    const std::vector<Point> x = restart_points(path, "coordinates");
-    double off = 0, size = 0;
-    for (int n = 0; n < sim_.mesh.n_nodes(); ++n)
-      for (int c = 0; c < 3; ++c) {
-        off = std::max(off, std::abs(x[n][c] - sim_.mesh.x[n][c]));
-        size = std::max(size, std::abs(sim_.mesh.x[n][c]));
-      }
-    if (step.size() != 1 || time.size() != 1 || !(off <= 1e-12 * size))
-      throw SceneError(path + ": not a checkpoint of a flow run on this scene's mesh (its nodes " +
-                       "lie up to " + std::to_string(off) + " from the scene's; --restart " + path +
-                       ")");
+    if (step.size() != 1 || time.size() != 1)
+      throw SceneError(path + ": not a checkpoint of a flow run (--restart " + path + ")");
     if (!(step[0] >= 1 && step[0] < scene_.time.steps))
       throw SceneError(path + ": step " + std::to_string(step[0]) + " is outside the scene's 1.." +
                        std::to_string(scene_.time.steps - 1) + " (--restart " + path + ")");
-    if (sim_.fluid) restore_fluid(path, time[0]);
-    if (sim_.structure)
-      sim_.structure->set_state(restart_points(path, "structure_displacement"),
-                                restart_points(path, "structure_velocity"), time[0]);
-    if (sim_.fsi)
-      sim_.fsi->set_mesh_displacement(restart_points(path, "fluid_mesh_displacement"),
-                                      restart_points(path, "fluid_mesh_velocity"));
+    const Mesh from = checkpoint_mesh(path);
+    FlowState state;
+    if (from.n_nodes() > 0) {
+      state = transfer(from, read_flow_state(path, from.n_nodes()), sim_.mesh, field_blocks());
+      std::cout << "restart: the state of " << from.n_nodes()
+                << " nodes interpolated onto the scene's " << sim_.mesh.n_nodes() << "\n";
+    } else {
+      state = read_flow_state(path, sim_.mesh.n_nodes());
+    }
+    if (sim_.fluid) {
+      sim_.fluid->set_solution(state.fluid);
+      sim_.fluid->set_time(time[0]);
+    }
+    if (sim_.structure) sim_.structure->set_state(state.displacement, state.velocity, time[0]);
+    if (sim_.fsi) sim_.fsi->set_mesh_displacement(state.mesh_displacement, state.mesh_velocity);
     sim_.after_flow_solve("restart");
     const int first = static_cast<int>(step[0]);
     std::cout << "restart: " << path << " (after step " << first << ", t = " << time[0] << ")\n";
     return first;
+  }
+
+  // The mesh a flow checkpoint was written on when it is not the scene's (no nodes when it is).
+  Mesh checkpoint_mesh(const std::string& path) const {
+    const auto xyz = read_restart(path, "coordinates");
+    Mesh m;
+    bool same = xyz.size() == 3 * sim_.mesh.x.size();
+    double off = 0, size = 0;
+    for (int n = 0; same && n < sim_.mesh.n_nodes(); ++n)
+      for (int c = 0; c < 3; ++c) {
+        off = std::max(off, std::abs(xyz[3 * n + c] - sim_.mesh.x[n][c]));
+        size = std::max(size, std::abs(sim_.mesh.x[n][c]));
+      }
+    if (same && off <= 1e-12 * size) return m;
+    const auto conn = read_restart(path, "connectivity");
+    const auto block = read_restart(path, "element_block");
+    const size_t nn = xyz.size() / 3, ne = block.size();
+    bool valid = xyz.size() % 3 == 0 && conn.size() == 8 * ne && ne > 0;
+    for (size_t i = 0; valid && i < conn.size(); ++i) valid = conn[i] >= 0 && conn[i] < nn;
+    for (size_t e = 0; valid && e < ne; ++e)
+      valid = block[e] >= 0 && block[e] < sim_.mesh.block_names.size();
+    if (!valid)
+      throw SceneError(path + ": its mesh (" + std::to_string(nn) + " nodes, " +
+                       std::to_string(ne) + " elements in " +
+                       std::to_string(sim_.mesh.block_names.size()) +
+                       " blocks expected) cannot be read (--restart " + path + ")");
+    m.block_names = sim_.mesh.block_names;
+    for (size_t n = 0; n < nn; ++n) m.x.push_back({xyz[3 * n], xyz[3 * n + 1], xyz[3 * n + 2]});
+    for (size_t e = 0; e < ne; ++e) {
+      std::array<int, 8> c;
+      for (int a = 0; a < 8; ++a) c[a] = static_cast<int>(conn[8 * e + a]);
+      m.conn.push_back(c);
+      m.element_block.push_back(static_cast<int>(block[e]));
+    }
+    return m;
+  }
+
+  // The checkpoint's state of the fields this run has, on a mesh of n nodes.
+  FlowState read_flow_state(const std::string& path, int n) const {
+    FlowState s;
+    auto points = [&](const char* name) {
+      const auto v = read_restart(path, name);
+      if (v.size() != 3 * static_cast<size_t>(n))
+        throw SceneError(path + ": the checkpoint has no '" + std::string(name) +
+                         "' for its mesh (--restart " + path + ")");
+      std::vector<Point> out(n);
+      for (int i = 0; i < n; ++i) out[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+      return out;
+    };
+    if (sim_.fluid) {
+      s.fluid = read_restart(path, "fluid");
+      if (s.fluid.size() != 4 * static_cast<size_t>(n))
+        throw SceneError(path + ": the checkpoint has no fluid state for its mesh");
+    }
+    if (sim_.structure) {
+      s.displacement = points("structure_displacement");
+      s.velocity = points("structure_velocity");
+    }
+    if (sim_.fsi) {
+      s.mesh_displacement = points("fluid_mesh_displacement");
+      s.mesh_velocity = points("fluid_mesh_velocity");
+    }
+    return s;
+  }
+
+  // The block indices of the fluid's and the structure's elements.
+  FieldBlocks field_blocks() const {
+    auto blocks_of = [&](const std::vector<int>& elements) {
+      std::vector<int> b;
+      for (int e : elements) b.push_back(sim_.mesh.element_block[e]);
+      std::sort(b.begin(), b.end());
+      b.erase(std::unique(b.begin(), b.end()), b.end());
+      return b;
+    };
+    FieldBlocks f;
+    if (sim_.fluid) f.fluid = blocks_of(sim_.fluid->elements());
+    if (sim_.structure) f.structure = blocks_of(sim_.structure->elements());
+    return f;
   }
 
   int failed(const SolveError& e, int step, double time) {

@@ -12,11 +12,11 @@
 
 namespace biofsi {
 
-class SimplePreconditioner {
+class SimplePreconditioner : public AssembledPreconditioner {
  public:
   explicit SimplePreconditioner(bool row_sum = false, double strong_threshold = 0.25);
-  void setup(const CsrMatrix& jacobian);
-  void apply(ConstVector r, Vector z) const;
+  void setup(const CsrMatrix& jacobian) override;
+  void apply(ConstVector r, Vector z) const override;
   int velocity_levels() const { return amg_a_.levels(); }
   int pressure_levels() const { return amg_s_.levels(); }
 

@@ -138,11 +138,11 @@ FluidField::FluidField(const Mesh& mesh, const FluidSettings& settings,
     AmgOptions o;
     o.num_functions = 4;  // (u, v, w, p) interleaved: one C/F choice per node
     o.nodal_coarsening = true;
-    amg_ = std::make_unique<BoomerAmg>(o);
+    preconditioner_ = std::make_unique<BoomerAmg>(o);
   } else if (settings_.preconditioner == FluidPreconditioner::Direct) {
-    lu_ = std::make_unique<SparseLu>();
+    preconditioner_ = std::make_unique<SparseLu>();
   } else {
-    simple_ = std::make_unique<SimplePreconditioner>(
+    preconditioner_ = std::make_unique<SimplePreconditioner>(
         settings_.preconditioner == FluidPreconditioner::SimpleC,
         settings_.velocity_strong_threshold);
   }
@@ -372,23 +372,11 @@ void FluidField::setup_preconditioner(ConstVector u) {
 
 void FluidField::setup_preconditioner_on_matrix() {
   ScopedTimer t(stats_.seconds_preconditioner_setup);
-  if (amg_)
-    amg_->setup(matrix_);
-  else if (lu_)
-    lu_->setup(matrix_);
-  else
-    simple_->setup(matrix_);
+  preconditioner_->setup(matrix_);
   ++stats_.preconditioner_setups;
 }
 
-void FluidField::precondition(ConstVector r, Vector z) const {
-  if (amg_)
-    amg_->apply(r, z);
-  else if (lu_)
-    lu_->apply(r, z);
-  else
-    simple_->apply(r, z);
-}
+void FluidField::precondition(ConstVector r, Vector z) const { preconditioner_->apply(r, z); }
 
 NewtonResult FluidField::advance(const std::string& label) {
   NewtonOptions options = settings_.newton_options;
@@ -401,13 +389,7 @@ NewtonResult FluidField::advance(const std::string& label) {
     for (double v : old) s += v * v;
     double h3 = 0;  // a typical element volume
     for (int e : elements_) {
-      const auto& c = mesh_.conn[e];
-      Point lo = mesh_.x[c[0]], hi = lo;
-      for (int a = 1; a < 8; ++a)
-        for (int d = 0; d < 3; ++d) {
-          lo[d] = std::min(lo[d], mesh_.x[c[a]][d]);
-          hi[d] = std::max(hi[d], mesh_.x[c[a]][d]);
-        }
+      const auto [lo, hi] = element_bounds(mesh_, e);
       h3 += (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
     }
     h3 /= std::max<size_t>(1, elements_.size());
@@ -530,13 +512,7 @@ std::vector<double> FluidField::pressure() const {
 std::array<double, 4> FluidField::probe(const Point& x) const {
   const auto s = solution_host();
   for (int e : elements_) {
-    const auto& c = mesh_.conn[e];
-    Point lo = mesh_.x[c[0]], hi = lo;
-    for (int a = 1; a < 8; ++a)
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = std::min(lo[d], mesh_.x[c[a]][d]);
-        hi[d] = std::max(hi[d], mesh_.x[c[a]][d]);
-      }
+    const auto [lo, hi] = element_bounds(mesh_, e);
     bool inside = true;
     for (int d = 0; d < 3; ++d) {
       const double tol = 1e-10 * (hi[d] - lo[d] + 1);
@@ -549,7 +525,7 @@ std::array<double, 4> FluidField::probe(const Point& x) const {
     const std::array<double, 8> n = hex8_shape_values(xi);
     std::array<double, 4> out{0, 0, 0, 0};
     for (int a = 0; a < 8; ++a)
-      for (int k = 0; k < 4; ++k) out[k] += n[a] * s[4 * c[a] + k];
+      for (int k = 0; k < 4; ++k) out[k] += n[a] * s[4 * mesh_.conn[e][a] + k];
     return out;
   }
   std::ostringstream m;

@@ -251,9 +251,7 @@ class FluidField {
   Vector fixed_values_;
   Vector state_, state_old_, scratch_;
   CsrMatrix matrix_;
-  std::unique_ptr<BoomerAmg> amg_;
-  std::unique_ptr<SimplePreconditioner> simple_;
-  std::unique_ptr<SparseLu> lu_;
+  std::unique_ptr<AssembledPreconditioner> preconditioner_;
   double time_ = 0;
   FluidStats stats_;
 };

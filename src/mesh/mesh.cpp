@@ -127,20 +127,10 @@ std::vector<std::vector<int>> colour_elements(const Mesh& mesh, const std::vecto
   std::vector<std::vector<int>> elements_of_node(mesh.x.size());
   for (int e : elements)
     for (int n : mesh.conn[e]) elements_of_node[n].push_back(e);
-  std::vector<int> colour(mesh.conn.size(), -1);
-  std::vector<std::vector<int>> groups;
-  for (int e : elements) {
-    std::vector<char> used(groups.size() + 1, 0);
+  return greedy_colouring(elements, mesh.n_elements(), [&](int e, auto visit) {
     for (int n : mesh.conn[e])
-      for (int other : elements_of_node[n])
-        if (colour[other] >= 0) used[colour[other]] = 1;
-    int c = 0;
-    while (used[c]) ++c;
-    colour[e] = c;
-    if (c == static_cast<int>(groups.size())) groups.emplace_back();
-    groups[c].push_back(e);
-  }
-  return groups;
+      for (int other : elements_of_node[n]) visit(other);
+  });
 }
 
 namespace {
@@ -543,6 +533,17 @@ void hex8_jacobian(const Mesh& mesh, const std::array<int, 8>& corners,
     for (int d = 0; d < 3; ++d)
       for (int k = 0; k < 3; ++k) jac[d][k] += g[k] * mesh.x[corners[a]][d];
   }
+}
+
+std::pair<Point, Point> element_bounds(const Mesh& mesh, int e) {
+  const auto& c = mesh.conn[e];
+  Point lo = mesh.x[c[0]], hi = lo;
+  for (int a = 1; a < 8; ++a)
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], mesh.x[c[a]][d]);
+      hi[d] = std::max(hi[d], mesh.x[c[a]][d]);
+    }
+  return {lo, hi};
 }
 
 std::array<double, 3> hex8_reference_coordinates(const Mesh& mesh, int e, const Point& x) {

@@ -11,6 +11,7 @@
 #include <array>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/core/csr.hpp"
@@ -69,6 +70,9 @@ struct BoxSpec {
 };
 
 Mesh make_box_mesh(const BoxSpec& spec);
+
+// The corners of the axis-aligned box around element e: (lower, upper).
+std::pair<Point, Point> element_bounds(const Mesh& mesh, int e);
 
 // The reference coordinates of point x in hex8 element e: Newton on the trilinear map, each
 // coordinate kept within [-3, 3] so that a point far outside cannot send it off. Inside the

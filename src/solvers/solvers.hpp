@@ -108,18 +108,28 @@ struct AmgOptions {
   std::vector<std::vector<Real>> interpolation_vectors;
 };
 
+// A preconditioner built from an assembled matrix: set up once per matrix, applied at every
+// Krylov iteration (BoomerAMG, the sparse LU, the fluid's block preconditioners).
+class AssembledPreconditioner {
+ public:
+  AssembledPreconditioner() = default;
+  virtual ~AssembledPreconditioner() = default;
+  AssembledPreconditioner(const AssembledPreconditioner&) = delete;
+  AssembledPreconditioner& operator=(const AssembledPreconditioner&) = delete;
+  virtual void setup(const CsrMatrix& a) = 0;
+  virtual void apply(ConstVector r, Vector z) const = 0;
+};
+
 // BoomerAMG on a CSR matrix (copied to a hypre IJ/ParCSR matrix; single rank: global row ids equal
 // local ones, the rows are the rank's owned rows). apply() runs `cycles` V-cycles from a zero
 // guess.
-class BoomerAmg {
+class BoomerAmg : public AssembledPreconditioner {
  public:
   explicit BoomerAmg(const AmgOptions& opt = {});
-  ~BoomerAmg();
-  BoomerAmg(const BoomerAmg&) = delete;
-  BoomerAmg& operator=(const BoomerAmg&) = delete;
+  ~BoomerAmg() override;
 
-  void setup(const CsrMatrix& a);
-  void apply(ConstVector r, Vector z) const;
+  void setup(const CsrMatrix& a) override;
+  void apply(ConstVector r, Vector z) const override;
   ApplyFn as_function() const;
   int levels() const;
   double setup_seconds() const { return setup_seconds_; }
@@ -136,16 +146,14 @@ class BoomerAmg {
 // block-preconditioned Krylov solves otherwise need hundreds of iterations (bench/README.md). The
 // symbolic analysis is kept while the sparsity pattern is unchanged, so a Newton step refactors
 // numerically only. Runs on the host, one thread; vectors cross to host memory at each application.
-class SparseLu {
+class SparseLu : public AssembledPreconditioner {
  public:
   SparseLu();
-  ~SparseLu();
-  SparseLu(const SparseLu&) = delete;
-  SparseLu& operator=(const SparseLu&) = delete;
+  ~SparseLu() override;
 
   // Throws std::runtime_error when the matrix is structurally or numerically singular.
-  void setup(const CsrMatrix& a);
-  void apply(ConstVector r, Vector z) const;
+  void setup(const CsrMatrix& a) override;
+  void apply(ConstVector r, Vector z) const override;
   // Nonzeros of the L and U factors (their fill), for the summary and the bench.
   long factor_nonzeros() const;
 

@@ -71,9 +71,7 @@ HostVector wiggly_displacement(const Mesh& m) {
 
 // K u by MeshMotion's matrix-free residual (the operator is linear, so r = K d).
 HostVector matrix_free_apply(MeshMotion& motion, const Mesh& mesh, const HostVector& u) {
-  Vector r(std::string("test::r"), u.size());
-  motion.residual(mesh, to_device(u), r);
-  return to_host(r);
+  return host_result(u.size(), [&](Vector r) { motion.residual(mesh, to_device(u), r); });
 }
 
 CsrMatrix assembled_matrix(MeshMotion& motion, const Mesh& mesh) {
@@ -83,15 +81,11 @@ CsrMatrix assembled_matrix(MeshMotion& motion, const Mesh& mesh) {
 }
 
 HostVector csr_apply(const CsrMatrix& a, const HostVector& u) {
-  Vector y(std::string("test::y"), u.size());
-  csr_multiply(a, to_device(u), y);
-  return to_host(y);
+  return host_result(u.size(), [&](Vector y) { csr_multiply(a, to_device(u), y); });
 }
 
 HostVector csr_diag(const CsrMatrix& a) {
-  Vector d(std::string("test::d"), a.n_rows);
-  csr_diagonal(a, d);
-  return to_host(d);
+  return host_result(a.n_rows, [&](Vector d) { csr_diagonal(a, d); });
 }
 
 // The matrix-free diagonal: MeshMotion does not expose one, so the ElementOperator with the same
@@ -102,9 +96,7 @@ HostVector matrix_free_diagonal(const Mesh& mesh, double stiffening) {
   const ElementOperator<PseudoElasticPhysics> op(dm.conn, dm.x, dm.element_block, ConstNodalView{},
                                                  pseudo_material(poisson_ratio, stiffening, mesh));
   Vector zero(std::string("test::zero"), 3 * mesh.n_nodes());
-  Vector d(std::string("test::diag"), 3 * mesh.n_nodes());
-  op.diagonal(groups, zero, d);
-  return to_host(d);
+  return host_result(3 * mesh.n_nodes(), [&](Vector d) { op.diagonal(groups, zero, d); });
 }
 
 // Greedy distance-2 colouring of the nodes: no two nodes of a colour share an element.
@@ -112,20 +104,12 @@ std::vector<std::vector<int>> colour_nodes_apart(const Mesh& mesh) {
   std::vector<std::vector<int>> elements_of_node(mesh.n_nodes());
   for (int e = 0; e < mesh.n_elements(); ++e)
     for (int n : mesh.conn[e]) elements_of_node[n].push_back(e);
-  std::vector<int> colour(mesh.n_nodes(), -1);
-  std::vector<std::vector<int>> groups;
-  for (int n = 0; n < mesh.n_nodes(); ++n) {
-    std::vector<char> used(groups.size() + 1, 0);
+  std::vector<int> nodes(mesh.n_nodes());
+  for (int n = 0; n < mesh.n_nodes(); ++n) nodes[n] = n;
+  return greedy_colouring(nodes, mesh.n_nodes(), [&](int n, auto visit) {
     for (int e : elements_of_node[n])
-      for (int m : mesh.conn[e])
-        if (colour[m] >= 0) used[colour[m]] = 1;
-    int c = 0;
-    while (used[c]) ++c;
-    colour[n] = c;
-    if (c == static_cast<int>(groups.size())) groups.emplace_back();
-    groups[c].push_back(n);
-  }
-  return groups;
+      for (int m : mesh.conn[e]) visit(m);
+  });
 }
 
 // The diagonal probed through the matrix-free apply (the sum-factorised tangent, not the element
@@ -142,37 +126,6 @@ HostVector probed_diagonal(MeshMotion& motion, const Mesh& mesh) {
       for (int n : group) d[3 * n + c] = ke[3 * n + c];
     }
   return d;
-}
-
-struct HostCsr {
-  std::vector<int> row_ptr, col;
-  HostVector val;
-  int n_rows() const { return static_cast<int>(row_ptr.size()) - 1; }
-  // Position of (r, c), or -1.
-  int find(int r, int c) const {
-    for (int k = row_ptr[r]; k < row_ptr[r + 1]; ++k)
-      if (col[k] == c) return k;
-    return -1;
-  }
-  double max_row_abs_sum() const {
-    double m = 0;
-    for (int r = 0; r < n_rows(); ++r) {
-      double s = 0;
-      for (int k = row_ptr[r]; k < row_ptr[r + 1]; ++k) s += std::abs(val[k]);
-      m = std::max(m, s);
-    }
-    return m;
-  }
-};
-
-HostCsr to_host(const CsrMatrix& a) {
-  HostCsr h;
-  auto rp = Kokkos::create_mirror_view_and_copy(HostSpace(), a.row_ptr);
-  auto col = Kokkos::create_mirror_view_and_copy(HostSpace(), a.col);
-  h.row_ptr.assign(rp.data(), rp.data() + rp.extent(0));
-  h.col.assign(col.data(), col.data() + col.extent(0));
-  h.val = test::to_host(a.val);
-  return h;
 }
 
 // max |a - b| / max |b|: relative to the largest entry, so that entries that are small by

@@ -16,6 +16,8 @@
 #include <sstream>
 
 #include "app/run.hpp"
+#include "scratch_dir.hpp"
+#include "tiny_scene.hpp"
 
 using namespace biofsi;
 namespace fs = std::filesystem;
@@ -25,17 +27,7 @@ namespace {
 const std::string source_dir = BIOFSI_SOURCE_DIR;
 
 // Scalar transport on a 2 x 2 x 1 box: a run takes a fraction of a second.
-const std::string kScene = R"yaml(mesh:
-  type: box
-  x: [0, 1]
-  z: [0, 0.1]
-  nx: 2
-  nz: 1
-  blocks:
-    - {name: fluid, y: [0, 1], ny: 2}
-materials:
-  fluid: {diffusivity: 1.0e-3}
-fields:
+const std::string kScene = test::kTinyBoxScene + R"yaml(fields:
   scalar:
     initial: "0"
     boundary_conditions:
@@ -46,10 +38,7 @@ time: {dt: 1.0, steps: 2}
 class RunErrors : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("biofsi_run_errors_" + std::to_string(getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
+    dir_ = test::scratch_dir("run_errors");
     fs::create_directories(dir_);
     scene_ = write("scene.yaml", kScene);
     out_ = dir_ / "out";

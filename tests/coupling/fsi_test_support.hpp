@@ -14,15 +14,14 @@ namespace test {
 
 // [0, 1] x ([0, 0.25] solid, [0.25, 1] fluid) x [0, 0.1], nx elements along x.
 inline Mesh layer_channel(int nx, int ny_solid, int ny_fluid) {
-  BoxSpec spec;
-  spec.x0 = 0;
-  spec.x1 = 1;
-  spec.z0 = 0;
-  spec.z1 = 0.1;
-  spec.nx = nx;
-  spec.nz = 1;
-  spec.blocks = {{"solid", 0.0, 0.25, ny_solid, 1.0}, {"fluid", 0.25, 1.0, ny_fluid, 1.0}};
-  return make_box_mesh(spec);
+  return make_box_mesh(
+      {0,
+       1,
+       0,
+       0.1,
+       nx,
+       1,
+       {{"solid", 0.0, 0.25, ny_solid, 1.0}, {"fluid", 0.25, 1.0, ny_fluid, 1.0}}});
 }
 
 struct LayerProblem {

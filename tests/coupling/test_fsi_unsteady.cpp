@@ -150,7 +150,7 @@ struct Series {
 
 Series run(const UnsteadyCase& c) {
   const std::string name = "fsi" + std::to_string(c.number);
-  const auto out = std::filesystem::temp_directory_path() / ("biofsi_" + name);
+  const auto out = scratch_dir(name);
   const RunOutput r = run_quietly(case_run("turek_hron/" + name + ".yaml", out));
   EXPECT_EQ(r.rc, 0) << r.err << r.out;
   auto columns = read_series(out / "series.csv");

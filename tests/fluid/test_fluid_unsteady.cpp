@@ -102,7 +102,7 @@ SheddingCase dfg2d2() {
 }
 
 void check_shedding(const SheddingCase& c) {
-  const auto out = std::filesystem::temp_directory_path() / ("biofsi_shedding_" + c.body);
+  const auto out = scratch_dir("shedding_" + c.body);
   const RunOutput r = run_quietly(case_run(c.scene, out));
   ASSERT_EQ(r.rc, 0) << r.err << r.out;
   auto s = read_series(out / "series.csv");

@@ -139,26 +139,28 @@ struct Poiseuille {
   double L, H, U, mu;
   double u(const Point& x) const { return 4 * U * x[1] * (H - x[1]) / (H * H); }
   double p(const Point& x) const { return 8 * mu * U / (H * H) * (L - x[0]); }
+  // nx x ny elements (graded towards the walls), thickness t.
+  Mesh mesh(int nx, int ny, double grading, double t) const {
+    return make_box_mesh({0, L, 0, t, nx, 1, {{"fluid", 0.0, H, ny, grading}}});
+  }
+  // No slip on the walls, the exact velocity and pressure at both ends.
+  std::vector<FluidBoundaryCondition> conditions() const {
+    const Poiseuille flow = *this;
+    const FluidFunction u = [flow](const Point& x, double) { return flow.u(x); };
+    const FluidFunction p = [flow](const Point& x, double) { return flow.p(x); };
+    std::vector<FluidBoundaryCondition> bcs = {fluid_no_slip("bottom"), fluid_no_slip("top")};
+    for (const char* end : {"left", "right"}) {
+      bcs.push_back(fluid_velocity(end, u, constant(0.0), constant(0.0)));
+      bcs.push_back(fluid_pressure(end, p));
+    }
+    return bcs;
+  }
 };
 
 double poiseuille_error(const Poiseuille& flow, int nx, int ny, double grading, bool transient,
                         double* aspect) {
-  BoxSpec spec;
-  spec.x1 = flow.L;
-  spec.z1 = 0.1 * flow.H;
-  spec.nx = nx;
-  spec.nz = 1;
-  spec.blocks = {{"fluid", 0.0, flow.H, ny, grading}};
-  Mesh mesh = make_box_mesh(spec);
-  FluidSettings s = tight_fluid_settings(1.0, flow.mu);
-  const FluidFunction u = [flow](const Point& x, double) { return flow.u(x); };
-  const FluidFunction p = [flow](const Point& x, double) { return flow.p(x); };
-  std::vector<FluidBoundaryCondition> bcs = {fluid_no_slip("bottom"), fluid_no_slip("top")};
-  for (const char* end : {"left", "right"}) {
-    bcs.push_back(fluid_velocity(end, u, constant(0.0), constant(0.0)));
-    bcs.push_back(fluid_pressure(end, p));
-  }
-  FluidField field(mesh, s, bcs);
+  const Mesh mesh = flow.mesh(nx, ny, grading, 0.1 * flow.H);
+  FluidField field(mesh, tight_fluid_settings(1.0, flow.mu), flow.conditions());
   field.set_initial(nullptr, nullptr, 0.0);
   EXPECT_TRUE(field.solve_steady("Poiseuille").converged);
   // Then time steps from the steady state, which must be a fixed point of one-step-theta.
@@ -213,23 +215,10 @@ TEST(FluidField, WallShearStressOfPoiseuilleFlowIsExact) {
   // Tolerance 1e-8 relative: the state is exact to ~1e-11 (test above) and the reaction divides
   // by lumped areas of O(h) (graded mesh: condition of the division ~1e2).
   const Poiseuille flow{2.0, 0.5, 1.0, 0.01};
-  BoxSpec spec;
-  spec.x1 = flow.L;
-  spec.z1 = 0.05;
-  spec.nx = 8;
-  spec.nz = 1;
-  spec.blocks = {{"fluid", 0.0, flow.H, 6, 3.0}};
-  Mesh mesh = make_box_mesh(spec);
+  const Mesh mesh = flow.mesh(8, 6, 3.0, 0.05);
   FluidSettings s = tight_fluid_settings(1.0, flow.mu);
   s.symmetric_viscous = false;
-  const FluidFunction u = [flow](const Point& x, double) { return flow.u(x); };
-  const FluidFunction p = [flow](const Point& x, double) { return flow.p(x); };
-  std::vector<FluidBoundaryCondition> bcs = {fluid_no_slip("bottom"), fluid_no_slip("top")};
-  for (const char* end : {"left", "right"}) {
-    bcs.push_back(fluid_velocity(end, u, constant(0.0), constant(0.0)));
-    bcs.push_back(fluid_pressure(end, p));
-  }
-  FluidField field(mesh, s, bcs);
+  FluidField field(mesh, s, flow.conditions());
   field.set_initial(nullptr, nullptr, 0.0);
   ASSERT_TRUE(field.solve_steady("Poiseuille").converged);
   const double tau_w = 4 * flow.mu * flow.U / flow.H;

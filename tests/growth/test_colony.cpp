@@ -262,7 +262,7 @@ TEST(ColonyGrowth, AreaGainIsTheInterfaceIntegralOfTheDisplacementToFirstOrder) 
 // move). The colony's rim moves outward, and the summary reports that motion and the flux into the
 // biofilm, which balances its consumption (both 0.0439 at the steady state).
 TEST(ColonyScene, DiscGrowsAndReportsTheFluxIntoTheBiofilm) {
-  const auto out = std::filesystem::temp_directory_path() / "biofsi_colony_disc";
+  const auto out = test::scratch_dir("colony_disc");
   const test::RunOutput r =
       test::run_quietly(test::case_run("colonies/disc.yaml", out, {"growth.steps=2"}));
   ASSERT_EQ(r.rc, 0) << r.out << r.err;

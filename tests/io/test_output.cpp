@@ -11,6 +11,7 @@
 
 #include "io/output.hpp"
 #include "mesh/mesh.hpp"
+#include "scratch_dir.hpp"
 
 namespace biofsi {
 namespace {
@@ -20,15 +21,9 @@ namespace fs = std::filesystem;
 class XdmfOutput : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("biofsi_test_io_" + std::to_string(getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    BoxSpec spec;
-    spec.x0 = -1, spec.x1 = 1, spec.z0 = 0, spec.z1 = 0.5;
-    spec.nx = 3, spec.nz = 2;
-    spec.blocks = {{"biofilm", 0, 1, 1, 1.0}, {"fluid", 1, 2, 2, 2.0}};
-    mesh_ = make_box_mesh(spec);
+    dir_ = test::scratch_dir("test_io");
+    mesh_ =
+        make_box_mesh({-1, 1, 0, 0.5, 3, 2, {{"biofilm", 0, 1, 1, 1.0}, {"fluid", 1, 2, 2, 2.0}}});
   }
   void TearDown() override { fs::remove_all(dir_); }
 

@@ -5,6 +5,8 @@
 #include <fstream>
 
 #include "io/scene.hpp"
+#include "scratch_dir.hpp"
+#include "tiny_scene.hpp"
 
 namespace biofsi {
 namespace {
@@ -63,17 +65,7 @@ output:
 )yaml";
 
 // Only the required keys.
-const std::string kMinimal = R"yaml(mesh:
-  type: box
-  x: [0, 1]
-  z: [0, 0.1]
-  nx: 2
-  nz: 1
-  blocks:
-    - {name: fluid, y: [0, 1], ny: 2}
-materials:
-  fluid: {diffusivity: 1.0e-3}
-time:
+const std::string kMinimal = test::kTinyBoxScene + R"yaml(time:
   dt: 1.0
   steps: 3
 )yaml";
@@ -395,7 +387,7 @@ TEST(Scene, ReportsAYamlSyntaxErrorWithItsLine) {
 class SceneFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("biofsi_test_scene_" + std::to_string(getpid()));
+    dir_ = test::scratch_dir("test_scene");
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }

@@ -35,6 +35,52 @@ inline Vector to_device(const HostVector& v) {
   return d;
 }
 
+// f(out) on a device vector of n entries, returned on the host.
+template <class F>
+HostVector host_result(size_t n, F f) {
+  Vector out(std::string("test::out"), n);
+  f(out);
+  return to_host(out);
+}
+
+// A CSR matrix copied to the host, for checks.
+struct HostCsr {
+  std::vector<int> row_ptr, col;
+  HostVector val;
+  int n_rows() const { return static_cast<int>(row_ptr.size()) - 1; }
+  // Position of (r, c), or -1.
+  int find(int r, int c) const {
+    for (int k = row_ptr[r]; k < row_ptr[r + 1]; ++k)
+      if (col[k] == c) return k;
+    return -1;
+  }
+  HostVector multiply(const HostVector& x) const {
+    HostVector y(n_rows(), 0.0);
+    for (int r = 0; r < n_rows(); ++r)
+      for (int k = row_ptr[r]; k < row_ptr[r + 1]; ++k) y[r] += val[k] * x[col[k]];
+    return y;
+  }
+  double max_row_abs_sum() const {
+    double m = 0;
+    for (int r = 0; r < n_rows(); ++r) {
+      double s = 0;
+      for (int k = row_ptr[r]; k < row_ptr[r + 1]; ++k) s += std::abs(val[k]);
+      m = std::max(m, s);
+    }
+    return m;
+  }
+};
+
+inline HostCsr to_host(const CsrMatrix& a) {
+  HostCsr h;
+  auto rp = Kokkos::create_mirror_view_and_copy(HostSpace(), a.row_ptr);
+  auto col = Kokkos::create_mirror_view_and_copy(HostSpace(), a.col);
+  h.row_ptr.assign(rp.data(), rp.data() + rp.extent(0));
+  h.col.assign(col.data(), col.data() + col.extent(0));
+  h.val = to_host(a.val);
+  return h;
+}
+
 struct SmallMesh {
   int nx = 1, ny = 1, nz = 1;
   double length[3] = {1, 1, 1};
@@ -102,6 +148,13 @@ inline SmallMesh make_small_mesh(int nx, int ny, int nz, const double length[3],
   return m;
 }
 
+// The 1 x 0.8 x 0.6 box in 5 x 4 x 3 elements with 4% distortion: the y-split puts whole element
+// layers in each block.
+inline SmallMesh box_5x4x3() {
+  const double length[3] = {1.0, 0.8, 0.6};
+  return make_small_mesh(5, 4, 3, length, 0.04);
+}
+
 inline IndexView to_device(const std::vector<int>& v, const std::string& label) {
   IndexView d(label, v.size());
   auto h = Kokkos::create_mirror_view(d);
@@ -113,22 +166,15 @@ inline IndexView to_device(const std::vector<int>& v, const std::string& label) 
 // Greedy colouring: each element takes the smallest colour not used by an element sharing a node.
 inline std::vector<std::vector<int>> colour_elements(const SmallMesh& m) {
   std::vector<std::vector<int>> elements_of_node(m.n_nodes());
-  for (int e = 0; e < m.n_elements(); ++e)
-    for (int a = 0; a < 8; ++a) elements_of_node[m.conn_host(e, a)].push_back(e);
-  std::vector<int> colour(m.n_elements(), -1);
-  std::vector<std::vector<int>> groups;
+  std::vector<int> elements(m.n_elements());
   for (int e = 0; e < m.n_elements(); ++e) {
-    std::vector<char> used(groups.size() + 1, 0);
-    for (int a = 0; a < 8; ++a)
-      for (int other : elements_of_node[m.conn_host(e, a)])
-        if (colour[other] >= 0) used[colour[other]] = 1;
-    int c = 0;
-    while (used[c]) ++c;
-    colour[e] = c;
-    if (c == static_cast<int>(groups.size())) groups.emplace_back();
-    groups[c].push_back(e);
+    elements[e] = e;
+    for (int a = 0; a < 8; ++a) elements_of_node[m.conn_host(e, a)].push_back(e);
   }
-  return groups;
+  return greedy_colouring(elements, m.n_elements(), [&](int e, auto visit) {
+    for (int a = 0; a < 8; ++a)
+      for (int other : elements_of_node[m.conn_host(e, a)]) visit(other);
+  });
 }
 
 inline ElementGroups element_groups(const SmallMesh& m, Scatter scatter) {

@@ -19,18 +19,11 @@
 #include "kernels/small_mesh.hpp"
 
 using namespace biofsi;
-using biofsi::test::SmallMesh;
+using namespace biofsi::test;
 
 namespace {
 
-using biofsi::test::HostVector;
-using biofsi::test::to_device;
-using biofsi::test::to_host;
 using RobinOperator = FaceOperator<TransportBoundaryPhysics>;
-
-const double box[3] = {1.0, 0.8, 0.6};
-
-SmallMesh test_mesh() { return biofsi::test::make_small_mesh(5, 4, 3, box, 0.04); }
 
 // Face data [phi_n, h, alpha, phi_inf] per node.
 template <class F>
@@ -66,7 +59,7 @@ HostVector wiggly_field(const SmallMesh& m, double phase) {
 }  // namespace
 
 TEST(TransportBoundaryOperator, RobinMatrixFreeActionAndDiagonalEqualAssembled) {
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   // Three sides meeting at a corner, so that nodes on edges collect several faces.
   const FaceView faces = biofsi::test::boundary_faces(m, {0, 3, 4});
   const NodalView aux = make_face_aux(m, [](double x, double y, double z, double v[4]) {
@@ -103,7 +96,7 @@ TEST(TransportBoundaryOperator, RobinMatrixFreeActionAndDiagonalEqualAssembled) 
 }
 
 TEST(TransportBoundaryOperator, ConstantFluxIntegratesToFluxTimesArea) {
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const double flux = 2.5;
   // Pure Neumann (alpha = 0): r_a = -int N_a h dA, so sum_a r_a = -h * area.
   const NodalView aux = make_face_aux(m, [&](double, double, double, double v[4]) {
@@ -114,7 +107,7 @@ TEST(TransportBoundaryOperator, ConstantFluxIntegratesToFluxTimesArea) {
   });
   TransportBoundaryPhysics p;
   p.theta = 0.66;
-  const double lx = box[0], ly = box[1], lz = box[2];
+  const double lx = m.length[0], ly = m.length[1], lz = m.length[2];
   const double side_area[6] = {ly * lz, ly * lz, lx * lz, lx * lz, lx * ly, lx * ly};
   const HostVector u = wiggly_field(m, 0.0);
   double total_area = 0, total = 0;

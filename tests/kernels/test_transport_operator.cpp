@@ -27,20 +27,12 @@
 #include "kernels/small_mesh.hpp"
 
 using namespace biofsi;
-using biofsi::test::SmallMesh;
+using namespace biofsi::test;
 
 namespace {
 
 constexpr double eps = std::numeric_limits<double>::epsilon();
-using biofsi::test::HostVector;
-using biofsi::test::to_device;
-using biofsi::test::to_host;
 using TransportOperator = ElementOperator<TransportPhysics>;
-
-const double box[3] = {1.0, 0.8, 0.6};
-
-// 5x4x3 elements, so the y-split puts whole element layers in each block; 4% distortion.
-SmallMesh test_mesh() { return biofsi::test::make_small_mesh(5, 4, 3, box, 0.04); }
 
 // A nodal field from a function of the node's coordinates.
 template <class F>
@@ -105,43 +97,17 @@ TransportPhysics diffusion_mass_physics(double inv_dt) {
 }
 
 HostVector residual(const TransportOperator& op, const ElementGroups& g, const HostVector& u) {
-  Vector r(std::string("r"), u.size());
-  op.residual(g, to_device(u), r);
-  return to_host(r);
+  return host_result(u.size(), [&](Vector r) { op.residual(g, to_device(u), r); });
 }
 
 HostVector tangent(const TransportOperator& op, const ElementGroups& g, const HostVector& u,
                    const HostVector& du) {
-  Vector y(std::string("y"), u.size());
-  op.apply_tangent(g, to_device(u), to_device(du), y);
-  return to_host(y);
+  return host_result(u.size(),
+                     [&](Vector y) { op.apply_tangent(g, to_device(u), to_device(du), y); });
 }
 
 HostVector diagonal(const TransportOperator& op, const ElementGroups& g, const HostVector& u) {
-  Vector d(std::string("d"), u.size());
-  op.diagonal(g, to_device(u), d);
-  return to_host(d);
-}
-
-struct HostCsr {
-  std::vector<int> row_ptr, col;
-  HostVector val;
-  HostVector multiply(const HostVector& x) const {
-    HostVector y(row_ptr.size() - 1, 0.0);
-    for (size_t r = 0; r + 1 < row_ptr.size(); ++r)
-      for (int k = row_ptr[r]; k < row_ptr[r + 1]; ++k) y[r] += val[k] * x[col[k]];
-    return y;
-  }
-};
-
-HostCsr to_host(const CsrMatrix& a) {
-  HostCsr h;
-  auto rp = Kokkos::create_mirror_view_and_copy(HostSpace(), a.row_ptr);
-  auto col = Kokkos::create_mirror_view_and_copy(HostSpace(), a.col);
-  h.row_ptr.assign(rp.data(), rp.data() + rp.extent(0));
-  h.col.assign(col.data(), col.data() + col.extent(0));
-  h.val = to_host(a.val);
-  return h;
+  return host_result(u.size(), [&](Vector d) { op.diagonal(g, to_device(u), d); });
 }
 
 CsrMatrix assemble(const TransportOperator& op, const ElementGroups& g, const SmallMesh& m,
@@ -237,7 +203,7 @@ void naive_element_matrix(const double xe[8][3], double mass, double diff, doubl
 }  // namespace
 
 TEST(TransportOperator, MatrixFreeTangentEqualsAssembledMatrixTimesVector) {
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const HostVector u = wiggly_field(m, 0.4, 0.5, 0.0);  // crosses 0 in places: Monod both signs
   const HostVector phi_n = wiggly_field(m, 0.35, 0.4, 1.0);
   const HostVector du = wiggly_field(m, 0.1, 1.0, 2.3);
@@ -254,7 +220,7 @@ TEST(TransportOperator, MatrixFreeTangentEqualsAssembledMatrixTimesVector) {
 }
 
 TEST(TransportOperator, MatrixFreeDiagonalEqualsAssembledDiagonal) {
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const HostVector u = wiggly_field(m, 0.4, 0.5, 0.0);
   const HostVector phi_n = wiggly_field(m, 0.35, 0.4, 1.0);
   const TransportOperator op(m.conn, m.x, m.block, make_aux(m, phi_n, 1.0), full_physics());
@@ -268,7 +234,7 @@ TEST(TransportOperator, MatrixFreeDiagonalEqualsAssembledDiagonal) {
 }
 
 TEST(TransportOperator, AssembledDiffusionAndMassEqualNaiveElementMatrices) {
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const TransportPhysics p = diffusion_mass_physics(4.0);
   const HostVector u = wiggly_field(m, 0.4, 0.5, 0.0);  // linear operator: u must not matter
   const TransportOperator op(m.conn, m.x, m.block, make_aux(m, u, 0.0), p);
@@ -306,7 +272,7 @@ TEST(TransportTangent, MatchesFiniteDifferenceOfMonodResidualAcrossZero) {
   // Reaction only (no mass, diffusion or convection), so the Monod linearisation is all that is
   // compared. phi is of the size of K = 1e-3 and changes sign: the strongly nonlinear regime and
   // the odd extension for phi < 0. Block 0 uses K = 1 (nearly linear) for contrast.
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   TransportPhysics p;
   p.coef.monod_rate[0] = 1.5;
   p.coef.monod_half_saturation[0] = 1.0;
@@ -339,7 +305,7 @@ TEST(TransportTangent, MatchesFiniteDifferenceOfMonodResidualAcrossZero) {
 TEST(TransportTangent, MatchesFiniteDifferenceOfSupgResidual) {
   // The SUPG part alone: R_supg = R(supg on) - R(supg off), and likewise for the tangent. Its
   // residual carries the whole strong residual (mass, convection, Monod) times tau c.grad N_a.
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const HostVector u = wiggly_field(m, 0.3, 0.4, 0.0);
   const HostVector phi_n = wiggly_field(m, 0.35, 0.4, 1.0);
   const HostVector v = wiggly_field(m, 0.1, 1.0, 2.3);
@@ -360,7 +326,7 @@ TEST(TransportTangent, MatchesFiniteDifferenceOfSupgResidual) {
 
 // With every term on, including the Phi div w of a deforming solid in block 1 (eq. 9).
 TEST(TransportTangent, MatchesFiniteDifferenceOfFullTransientResidual) {
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const HostVector u = wiggly_field(m, 0.2, 0.4, 0.0);
   const HostVector phi_n = wiggly_field(m, 0.35, 0.4, 1.0);
   const HostVector v = wiggly_field(m, 0.1, 1.0, 2.3);
@@ -374,7 +340,7 @@ TEST(TransportTangent, MatchesFiniteDifferenceOfFullTransientResidual) {
 }
 
 TEST(TransportOperator, ColouredAndAtomicScatterGiveTheSameResults) {
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const auto colours = biofsi::test::colour_elements(m);
   // The colouring itself must be valid, or the coloured run would race.
   for (const auto& group : colours) {
@@ -403,7 +369,7 @@ TEST(TransportOperator, ColouredAndAtomicScatterGiveTheSameResults) {
 TEST(TransportOperator, ConstantFieldHasZeroResidualOnDistortedMesh) {
   // A constant that equals the old solution: no time change, zero gradient, so every row vanishes
   // up to the round-off of summing that row (40 eps times its absolute sum, times the constant).
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const double value = 0.7;
   const HostVector u(m.n_nodes(), value);
   for (double speed : {0.0, 1.0}) {  // without convection, as asked; with it (and SUPG), as well
@@ -421,7 +387,7 @@ TEST(TransportOperator, ConstantFieldHasZeroResidualOnDistortedMesh) {
 }
 
 TEST(TransportOperator, DiffusionPartAnnihilatesConstants) {
-  const SmallMesh m = test_mesh();
+  const SmallMesh m = box_5x4x3();
   const HostVector u = wiggly_field(m, 0.4, 0.5, 0.0);
   const TransportOperator op(m.conn, m.x, m.block, make_aux(m, u, 0.0),
                              diffusion_mass_physics(0.0));

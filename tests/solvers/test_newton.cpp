@@ -18,22 +18,6 @@ using namespace biofsi::test;
 
 namespace {
 
-KOKKOS_INLINE_FUNCTION Real arctan(Real x) {
-#if KOKKOS_VERSION >= 40000
-  return Kokkos::atan(x);
-#else
-  return Kokkos::Experimental::atan(x);
-#endif
-}
-
-KOKKOS_INLINE_FUNCTION Real square_root(Real x) {
-#if KOKKOS_VERSION >= 40000
-  return Kokkos::sqrt(x);
-#else
-  return Kokkos::Experimental::sqrt(x);
-#endif
-}
-
 using Policy = Kokkos::RangePolicy<ExecSpace>;
 
 // ---- A u + c u^3 = f: a discrete semilinear elliptic problem (A: scaled 7-point Laplacian) ----
@@ -103,7 +87,8 @@ struct CubicProblem {
 
 void atan_residual(ConstVector u, Vector r) {
   Kokkos::parallel_for(
-      "test::atan_residual", Policy(0, u.extent(0)), KOKKOS_LAMBDA(int i) { r(i) = arctan(u(i)); });
+      "test::atan_residual", Policy(0, u.extent(0)),
+      KOKKOS_LAMBDA(int i) { r(i) = math::atan(u(i)); });
 }
 
 void atan_tangent(ConstVector u, ConstVector du, Vector y) {
@@ -115,13 +100,13 @@ void atan_tangent(ConstVector u, ConstVector du, Vector y) {
 void sqrt_residual(ConstVector u, Vector r) {
   Kokkos::parallel_for(
       "test::sqrt_residual", Policy(0, u.extent(0)),
-      KOKKOS_LAMBDA(int i) { r(i) = square_root(u(i)) - 0.5; });
+      KOKKOS_LAMBDA(int i) { r(i) = math::sqrt(u(i)) - 0.5; });
 }
 
 void sqrt_tangent(ConstVector u, ConstVector du, Vector y) {
   Kokkos::parallel_for(
       "test::sqrt_tangent", Policy(0, u.extent(0)),
-      KOKKOS_LAMBDA(int i) { y(i) = du(i) / (2 * square_root(u(i))); });
+      KOKKOS_LAMBDA(int i) { y(i) = du(i) / (2 * math::sqrt(u(i))); });
 }
 
 // Starting values 3, 3.1, ..., 3.9: all in atan's divergence region for plain Newton (|u| > 1.39).

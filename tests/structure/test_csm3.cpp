@@ -40,7 +40,7 @@ constexpr Reference ref_ux{-14.305e-3, 14.305e-3, 1.0995}, ref_uy{-63.607e-3, 65
 }  // namespace
 
 TEST(StructureCsm3Long, TipOscillationMatchesTurekHron) {
-  const auto out = std::filesystem::temp_directory_path() / "biofsi_csm3";
+  const auto out = scratch_dir("csm3");
   const RunOutput r = run_quietly(case_run("turek_hron/csm3.yaml", out));
   ASSERT_EQ(r.rc, 0) << r.err << r.out;
   auto s = read_series(out / "series.csv");

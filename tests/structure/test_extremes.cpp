@@ -35,15 +35,7 @@ using namespace biofsi::test;
 namespace {
 
 Mesh cantilever(int nx, int ny) {
-  BoxSpec spec;
-  spec.x0 = 0;
-  spec.x1 = 10;
-  spec.z0 = 0;
-  spec.z1 = 0.5;
-  spec.nx = nx;
-  spec.nz = 1;
-  spec.blocks = {{"beam", 0.0, 1.0, ny, 1.0}};
-  return make_box_mesh(spec);
+  return make_box_mesh({0, 10, 0, 0.5, nx, 1, {{"beam", 0.0, 1.0, ny, 1.0}}});
 }
 
 // Mean vertical displacement of the right end.

@@ -1,7 +1,6 @@
-// Nodal fields of one hex8 mesh interpolated onto the nodes of another mesh of the same domain
-// (a mesh study of an unsteady benchmark from a periodic state reached on a coarser mesh instead
-// of from rest needs it). Test support only: it depends on src/mesh and kernels/core, and only the
-// tests include it.
+// Nodal fields of one hex8 mesh interpolated onto the nodes of another mesh of the same domain: a
+// transient run restarted from a checkpoint written on another mesh (a mesh study from a periodic
+// state reached on a coarser mesh instead of from rest). Depends on mesh.hpp only.
 #pragma once
 
 #include <algorithm>
@@ -15,7 +14,6 @@
 #include "mesh/mesh.hpp"
 
 namespace biofsi {
-namespace test {
 
 // Where a point lies in a set of elements of a source mesh: the element, its trilinear shape
 // function values there, and how far outside the element the point is in reference coordinates
@@ -101,12 +99,8 @@ class NodalInterpolator {
     lo_ = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
     Point hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (int e : elements_) {
-      std::array<Point, 2> b{mesh_.x[mesh_.conn[e][0]], mesh_.x[mesh_.conn[e][0]]};
-      for (int a = 1; a < 8; ++a)
-        for (int d = 0; d < 3; ++d) {
-          b[0][d] = std::min(b[0][d], mesh_.x[mesh_.conn[e][a]][d]);
-          b[1][d] = std::max(b[1][d], mesh_.x[mesh_.conn[e][a]][d]);
-        }
+      const auto [b_lo, b_hi] = element_bounds(mesh_, e);
+      const std::array<Point, 2> b{b_lo, b_hi};
       for (int d = 0; d < 3; ++d) {
         mean_size[d] += (b[1][d] - b[0][d]) / elements_.size();
         lo_[d] = std::min(lo_[d], b[0][d]);
@@ -147,5 +141,4 @@ class NodalInterpolator {
   std::vector<std::vector<int>> buckets_;
 };
 
-}  // namespace test
 }  // namespace biofsi
