@@ -1,16 +1,17 @@
 // GoogleTest entry for host-code tests: MPI (hypre needs it) and Kokkos live around all tests.
 #include <gtest/gtest.h>
-#include <mpi.h>
 
 #include <Kokkos_Core.hpp>
 
+#include "app/mpi_session.hpp"
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
-  MPI_Init(&argc, &argv);
+  biofsi::mpi_init(&argc, &argv);
   Kokkos::initialize(argc, argv);
   int rc = 0;
   { rc = RUN_ALL_TESTS(); }
   Kokkos::finalize();
-  MPI_Finalize();
+  biofsi::mpi_finalize();
   return rc;
 }

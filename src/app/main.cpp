@@ -1,13 +1,12 @@
 // biofsi command line: `biofsi --version`, `biofsi run SCENE.yaml [--out DIR] [--set key=value]...
 // [--overwrite] [--restart CHECKPOINT]`. Exit codes: biofsi::ExitCode (app/run.hpp).
-#include <mpi.h>
-
 #include <Kokkos_Core.hpp>
 #include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "app/mpi_session.hpp"
 #include "app/run.hpp"
 #include "app/version.hpp"
 
@@ -91,7 +90,7 @@ int main(int argc, char** argv) {
   biofsi::RunOptions options;
   const int parsed = parse(argc, argv, version, options);
   if (parsed != 0) return parsed < 0 ? 0 : parsed;
-  MPI_Init(&argc, &argv);
+  biofsi::mpi_init(&argc, &argv);
   int rc = 0;
   Kokkos::initialize(argc, argv);
   try {
@@ -103,6 +102,6 @@ int main(int argc, char** argv) {
     rc = biofsi::report_error(options.scene_path);
   }
   Kokkos::finalize();
-  MPI_Finalize();
+  biofsi::mpi_finalize();
   return rc;
 }

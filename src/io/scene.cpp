@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -345,8 +346,14 @@ void read_time(const Checker& c, const Node& node, Scene& scene) {
   if (auto stages = m.get("stages")) {
     t.stages = read_stages(c, *stages, m, scene);
     t.dt = t.stages.front().dt;
-    t.steps = 0;
-    for (const auto& s : t.stages) t.steps += s.steps;
+    // Each stage's steps fit an int; their sum need not (it once overflowed).
+    long long steps = 0;
+    for (const auto& s : t.stages) steps += s.steps;
+    if (steps > std::numeric_limits<int>::max())
+      c.fail(*stages, m.key("stages"), "too many steps in all", std::to_string(steps) + " steps",
+             "at most " + std::to_string(std::numeric_limits<int>::max()) +
+                 " steps in all stages together");
+    t.steps = static_cast<int>(steps);
   } else {
     t.dt = get_number(
         m, "dt", [](double v) { return v > 0; }, "a finite number > 0 [ms]",
@@ -605,7 +612,10 @@ void apply_override(Node& root, const std::string& text, std::vector<OverrideOri
     if (cur.IsSequence()) {
       if (!part.numeric())
         bad_override(text, "'" + here + "' is a list; '" + part.name + "' is not an index");
-      const unsigned long idx = std::stoul(part.name);
+      // An index of any length: one beyond size_t is out of range too (std::stoul threw).
+      size_t idx = 0;
+      const char* end = part.name.data() + part.name.size();
+      if (std::from_chars(part.name.data(), end, idx).ec != std::errc()) idx = cur.size();
       if (idx >= cur.size())
         bad_override(text, "index " + part.name + " out of range: '" + here + "' has " +
                                std::to_string(cur.size()) + " entries");

@@ -673,6 +673,17 @@ TEST(SceneOverrides, RejectMalformedOverridesNamingThem) {
   EXPECT_TRUE(contains(error_of(kFull, {"time.dt"}), "missing '='"));
 }
 
+// An index too large for any integer type is out of range like any other (std::stoul threw
+// std::out_of_range through parse_scene: found with tests/fuzz/fuzz_scene_reader).
+TEST(SceneOverrides, RejectAnIndexBeyondEveryIntegerAsOutOfRange) {
+  for (const std::string bad :
+       {"mesh.blocks[99999999999999999999].ny=3", "mesh.blocks.18446744073709551616.ny=3"}) {
+    const std::string m = error_of(kFull, {bad});
+    EXPECT_EQ(m.rfind("--set " + bad + ": ", 0), 0u) << m;
+    EXPECT_TRUE(contains(m, "out of range: 'mesh.blocks' has 2 entries")) << m;
+  }
+}
+
 // The structure field and the coupling: elastic constants per block, the structure section and
 // the fsi section, every key read; then the checks that keep a coupled scene consistent.
 const std::string kStructure = R"yaml(  structure:
@@ -810,6 +821,22 @@ TEST(Scene, ReadsAThetaPerTimeStage) {
                        "time.stages[0].theta: out of range"))
       << error_of(kFull, {"time.dt=null", "time.steps=null",
                           "time.stages=[{dt: 0.5, steps: 2, theta: 0.4}]"});
+}
+
+// Each stage's steps fit an int, their sum need not: it is refused instead of overflowing (signed
+// overflow, undefined behaviour: found with tests/fuzz/fuzz_scene_reader under UBSan).
+TEST(Scene, RefusesStagesWhoseStepsTogetherOverflowAnInt) {
+  auto staged = [](const std::string& first, const std::string& second) {
+    return replaced(
+        kFull, "  dt: 0.5\n  steps: 10\n",
+        "  stages:\n    - {dt: 1, steps: " + first + "}\n    - {dt: 1, steps: " + second + "}\n");
+  };
+  const std::string over = staged("2147483647", "2147483647");
+  expect_error(over, line_of(over, "    - {dt: 1"), "time.stages", "4294967294 steps",
+               "at most 2147483647 steps in all stages together");
+  // At the limit exactly, it is read.
+  EXPECT_EQ(parse_scene(staged("2147483646", "1"), kFile).time.steps, 2147483647);
+  EXPECT_TRUE(contains(error_of(staged("2147483646", "2")), "2147483648 steps"));
 }
 
 // Body forces per volume: the structure's as given, the fluid's per unit mass (its density).
