@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <regex>
 #include <sstream>
+#include <utility>
 
 #include "io/output.hpp"
 #include "scene_run.hpp"
@@ -178,52 +180,56 @@ TEST(FlowScene, RestartContinuesATransientFlowRun) {
   EXPECT_NE(r.err.find("checkpoint_000002.h5"), std::string::npos) << r.err;
 }
 
+namespace {
+
+// Runs `scene` with `settings` on refine 1 for `steps` steps, restarts it on refine 2 from its
+// checkpoint after `steps` - 1 steps, and returns `column` of the last step: (refine 1, moved).
+std::pair<double, double> moved_onto_refine_2(const std::string& scene,
+                                              const std::vector<std::string>& settings, int steps,
+                                              const std::string& column) {
+  auto on = [&](const char* refine) {
+    std::vector<std::string> o = settings;
+    o.push_back("time.steps=" + std::to_string(steps));
+    o.push_back("output.every=" + std::to_string(steps - 1));
+    o.push_back(std::string("mesh.parameters.refine=") + refine);
+    return o;
+  };
+  const fs::path coarse = scratch_dir("app_transfer_coarse"),
+                 moved = scratch_dir("app_transfer_moved");
+  EXPECT_EQ(run_quietly(case_run(scene, coarse, on("1"))).rc, 0);
+  RunOptions o = case_run(scene, moved, on("2"));
+  char checkpoint[32];
+  std::snprintf(checkpoint, sizeof checkpoint, "checkpoint_%06d.h5", steps - 1);
+  o.restart = (coarse / checkpoint).string();
+  const RunOutput r = run_quietly(o);
+  EXPECT_EQ(r.rc, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("interpolated onto the scene's"), std::string::npos) << r.out;
+  auto a = read_series(coarse / "series.csv"), b = read_series(moved / "series.csv");
+  EXPECT_EQ(b["step"], (std::vector<double>{static_cast<double>(steps)}));
+  const std::pair<double, double> out{a[column].at(steps), b[column].at(0)};
+  std::printf("[ measured ] %s %s after step %d: refine 1 %.6e, moved onto refine 2 %.6e\n",
+              scene.c_str(), column.c_str(), steps, out.first, out.second);
+  return out;
+}
+
+}  // namespace
+
 // A checkpoint written on another mesh of the domain is interpolated onto the scene's: DFG 2D-1
 // from rest on refine 1, continued on refine 2 after 2 of 3 steps. Measured drag after step 3:
 // refine 1 1.0555e-4, refine 2 from rest 1.0499e-4 (the meshes differ by 0.53%), refine 1 moved
 // onto refine 2 1.0532e-4 (0.21% from refine 1): 1% holds the state carried over, where a restart
 // that lost it would start the flow from rest at t = 0.5.
 TEST(FlowScene, RestartMovesACheckpointOntoAFinerMesh) {
-  auto on = [](const char* refine) {
-    return std::vector<std::string>{"fields.fluid.mode=transient", "time.dt=0.25", "time.steps=3",
-                                    "output.every=2",
-                                    std::string("mesh.parameters.refine=") + refine};
-  };
-  const fs::path coarse = scratch_dir("app_transfer_coarse");
-  ASSERT_EQ(run_quietly(case_run("dfg/dfg_2d1.yaml", coarse, on("1"))).rc, 0);
-  const fs::path moved = scratch_dir("app_transfer_moved");
-  RunOptions o = case_run("dfg/dfg_2d1.yaml", moved, on("2"));
-  o.restart = (coarse / "checkpoint_000002.h5").string();
-  const RunOutput r = run_quietly(o);
-  ASSERT_EQ(r.rc, 0) << r.err << r.out;
-  EXPECT_NE(r.out.find("interpolated onto the scene's"), std::string::npos) << r.out;
-  auto a = read_series(coarse / "series.csv"), b = read_series(moved / "series.csv");
-  ASSERT_EQ(b["step"], (std::vector<double>{3}));
-  const double coarse_drag = a["force_cylinder_x"].at(3), moved_drag = b["force_cylinder_x"][0];
-  std::printf("[ measured ] drag after step 3: refine 1 %.6e, moved onto refine 2 at step 2 %.6e\n",
-              coarse_drag, moved_drag);
-  EXPECT_NEAR(moved_drag, coarse_drag, 0.01 * std::abs(coarse_drag));
+  const auto [coarse, moved] = moved_onto_refine_2(
+      "dfg/dfg_2d1.yaml", {"fields.fluid.mode=transient", "time.dt=0.25"}, 3, "force_cylinder_x");
+  EXPECT_NEAR(moved, coarse, 0.01 * std::abs(coarse));
 }
 
 // The structure alone likewise (CSM3, refine 1 onto refine 2 after 10 of 11 steps). Measured
 // u_y(A) after step 11: refine 1 -3.0904e-3, refine 2 from rest -3.0384e-3 (the meshes differ by
 // 1.7%), moved -3.0886e-3 (0.06% from refine 1): 0.5%.
 TEST(FlowScene, RestartMovesAStructureCheckpointOntoAFinerMesh) {
-  auto on = [](const char* refine) {
-    return std::vector<std::string>{"time.steps=11", "output.every=10",
-                                    std::string("mesh.parameters.refine=") + refine};
-  };
-  const fs::path coarse = scratch_dir("app_transfer_flag");
-  ASSERT_EQ(run_quietly(case_run("turek_hron/csm3.yaml", coarse, on("1"))).rc, 0);
-  const fs::path moved = scratch_dir("app_transfer_flag_moved");
-  RunOptions o = case_run("turek_hron/csm3.yaml", moved, on("2"));
-  o.restart = (coarse / "checkpoint_000010.h5").string();
-  const RunOutput r = run_quietly(o);
-  ASSERT_EQ(r.rc, 0) << r.err << r.out;
-  auto a = read_series(coarse / "series.csv"), b = read_series(moved / "series.csv");
-  ASSERT_EQ(b["step"], (std::vector<double>{11}));
-  const double coarse_uy = a["A_displacement_y"].at(11), moved_uy = b["A_displacement_y"][0];
-  std::printf("[ measured ] u_y(A) after step 11: refine 1 %.6e, moved onto refine 2 %.6e\n",
-              coarse_uy, moved_uy);
-  EXPECT_NEAR(moved_uy, coarse_uy, 0.005 * std::abs(coarse_uy));
+  const auto [coarse, moved] =
+      moved_onto_refine_2("turek_hron/csm3.yaml", {}, 11, "A_displacement_y");
+  EXPECT_NEAR(moved, coarse, 0.005 * std::abs(coarse));
 }
