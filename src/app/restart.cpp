@@ -1,26 +1,22 @@
 #include "app/restart.hpp"
 
-#include <algorithm>
-#include <array>
-
 #include "mesh/mesh_transfer.hpp"
 
 namespace biofsi {
 
+namespace {
+
 std::vector<int> elements_of_blocks(const Mesh& mesh, const std::vector<int>& blocks) {
   std::vector<int> out;
-  for (int e = 0; e < mesh.n_elements(); ++e)
-    if (std::find(blocks.begin(), blocks.end(), mesh.element_block[e]) != blocks.end())
-      out.push_back(e);
+  for (int b : blocks)
+    for (int e : mesh.elements_of_block(b)) out.push_back(e);
   return out;
 }
 
-namespace {
-
-std::vector<char> nodes_of(const Mesh& mesh, const std::vector<int>& elements) {
+std::vector<char> nodes_of_blocks(const Mesh& mesh, const std::vector<int>& blocks) {
   std::vector<char> on(mesh.n_nodes(), 0);
-  for (int e : elements)
-    for (int n : mesh.conn[e]) on[n] = 1;
+  for (int b : blocks)
+    for (int n : mesh.nodes_of_block(b)) on[n] = 1;
   return on;
 }
 
@@ -34,10 +30,7 @@ FlowState transfer(const Mesh& from, const FlowState& state, const Mesh& to,
   std::vector<char> fluid_node(n, 0), structure_node(n, 0);
   if (!state.fluid.empty() || !state.mesh_displacement.empty()) {
     const NodalInterpolator fluid(from, elements_of_blocks(from, blocks.fluid));
-    fluid_node = nodes_of(to, elements_of_blocks(to, blocks.fluid));
-    std::vector<std::array<double, 4>> f_from(from.n_nodes());
-    for (int a = 0; a < from.n_nodes() && !state.fluid.empty(); ++a)
-      for (int k = 0; k < 4; ++k) f_from[a][k] = state.fluid[4 * a + k];
+    fluid_node = nodes_of_blocks(to, blocks.fluid);
     if (!state.fluid.empty()) out.fluid.assign(4 * n, 0.0);
     if (!state.mesh_displacement.empty()) {
       out.mesh_displacement.assign(n, zero);
@@ -50,7 +43,7 @@ FlowState transfer(const Mesh& from, const FlowState& state, const Mesh& to,
         const auto& c = from.conn[w.element];
         for (int k = 0; k < 4; ++k) {
           double value = 0;
-          for (int b = 0; b < 8; ++b) value += w.n[b] * f_from[c[b]][k];
+          for (int b = 0; b < 8; ++b) value += w.n[b] * state.fluid[4 * c[b] + k];
           out.fluid[4 * a + k] = value;
         }
       }
@@ -62,7 +55,7 @@ FlowState transfer(const Mesh& from, const FlowState& state, const Mesh& to,
   }
   if (!state.displacement.empty()) {
     const NodalInterpolator structure(from, elements_of_blocks(from, blocks.structure));
-    structure_node = nodes_of(to, elements_of_blocks(to, blocks.structure));
+    structure_node = nodes_of_blocks(to, blocks.structure);
     out.displacement.assign(n, zero);
     out.velocity.assign(n, zero);
     for (size_t a = 0; a < n; ++a) {

@@ -31,7 +31,4 @@ struct FieldBlocks {
 FlowState transfer(const Mesh& from, const FlowState& state, const Mesh& to,
                    const FieldBlocks& blocks);
 
-// The elements of a mesh in the blocks `blocks`.
-std::vector<int> elements_of_blocks(const Mesh& mesh, const std::vector<int>& blocks);
-
 }  // namespace biofsi

@@ -472,22 +472,29 @@ class Driver {
     return first;
   }
 
+  // The fluid's (u, p) of a restart file on a mesh of n nodes.
+  static std::vector<double> restart_fluid(const std::string& path, int n) {
+    auto state = read_restart(path, "fluid");
+    if (state.size() != 4 * static_cast<size_t>(n))
+      throw SceneError(path + ": the checkpoint has no fluid state for its mesh");
+    return state;
+  }
+
   void restore_fluid(const std::string& path, double time) {
-    const auto state = read_restart(path, "fluid");
-    if (state.size() != 4 * sim_.mesh.x.size())
-      throw SceneError(path + ": the checkpoint has no fluid state for this mesh");
-    sim_.fluid->set_solution(state);
+    sim_.fluid->set_solution(restart_fluid(path, sim_.mesh.n_nodes()));
     sim_.fluid->set_time(time);
   }
 
-  // A node's three values of a restart dataset, checked against the mesh.
-  std::vector<Point> restart_points(const std::string& path, const char* name) const {
+  // A node's three values of a restart dataset, checked against a mesh of n nodes (the scene's
+  // by default).
+  std::vector<Point> restart_points(const std::string& path, const char* name, int n = -1) const {
+    if (n < 0) n = sim_.mesh.n_nodes();
     const auto v = read_restart(path, name);
-    if (v.size() != 3 * sim_.mesh.x.size())
+    if (v.size() != 3 * static_cast<size_t>(n))
       throw SceneError(path + ": the checkpoint has no '" + std::string(name) +
-                       "' for this mesh (--restart " + path + ")");
-    std::vector<Point> out(sim_.mesh.n_nodes());
-    for (int n = 0; n < sim_.mesh.n_nodes(); ++n) out[n] = {v[3 * n], v[3 * n + 1], v[3 * n + 2]};
+                       "' for its mesh (--restart " + path + ")");
+    std::vector<Point> out(n);
+    for (int i = 0; i < n; ++i) out[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
     return out;
   }
 
@@ -565,27 +572,14 @@ class Driver {
   // The checkpoint's state of the fields this run has, on a mesh of n nodes.
   FlowState read_flow_state(const std::string& path, int n) const {
     FlowState s;
-    auto points = [&](const char* name) {
-      const auto v = read_restart(path, name);
-      if (v.size() != 3 * static_cast<size_t>(n))
-        throw SceneError(path + ": the checkpoint has no '" + std::string(name) +
-                         "' for its mesh (--restart " + path + ")");
-      std::vector<Point> out(n);
-      for (int i = 0; i < n; ++i) out[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-      return out;
-    };
-    if (sim_.fluid) {
-      s.fluid = read_restart(path, "fluid");
-      if (s.fluid.size() != 4 * static_cast<size_t>(n))
-        throw SceneError(path + ": the checkpoint has no fluid state for its mesh");
-    }
+    if (sim_.fluid) s.fluid = restart_fluid(path, n);
     if (sim_.structure) {
-      s.displacement = points("structure_displacement");
-      s.velocity = points("structure_velocity");
+      s.displacement = restart_points(path, "structure_displacement", n);
+      s.velocity = restart_points(path, "structure_velocity", n);
     }
     if (sim_.fsi) {
-      s.mesh_displacement = points("fluid_mesh_displacement");
-      s.mesh_velocity = points("fluid_mesh_velocity");
+      s.mesh_displacement = restart_points(path, "fluid_mesh_displacement", n);
+      s.mesh_velocity = restart_points(path, "fluid_mesh_velocity", n);
     }
     return s;
   }

@@ -2,29 +2,31 @@
 // the checks a mesh the readers accept must pass. Part of tests/fuzz: includes src/mesh only.
 #pragma once
 
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 #include "mesh/mesh.hpp"
 
 namespace biofsi::fuzz {
 
-// $TMPDIR/biofsi_fuzz_<what>_<pid> (or under /tmp), created once; the input files live there, so
+// <temporary directory>/biofsi_fuzz_<what>_<pid>, created once; the input files live there, so
 // that relative paths inside an input (a scene's mesh file) resolve to nothing the fuzzer made.
 inline std::string scratch_dir(const std::string& what) {
-  const char* tmp = std::getenv("TMPDIR");
-  const std::string dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/biofsi_fuzz_" + what + "_" +
-                          std::to_string(getpid());
-  if (mkdir(dir.c_str(), 0700) != 0 && access(dir.c_str(), W_OK) != 0) {
-    std::perror(dir.c_str());
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("biofsi_fuzz_" + what + "_" + std::to_string(getpid()));
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    std::fprintf(stderr, "%s: %s\n", dir.c_str(), ec.message().c_str());
     std::abort();
   }
-  return dir;
+  return dir.string();
 }
 
 inline void write_input(const std::string& path, const uint8_t* data, size_t size) {
