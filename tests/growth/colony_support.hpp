@@ -1,7 +1,8 @@
 // A circular colony in a circular fluid domain, for the colony tests: the mesh (an O-grid of a disc
 // of radius 1, block "biofilm", in an annulus out to radius r_outer, block "fluid", extruded into
 // one hex layer) with its interface listed once per side as a Gmsh mesh lists it, and the steady
-// radially symmetric Monod solution that the transport on it approximates.
+// radially symmetric Monod solution, in 2-D and 3-D, that the transport on it (and on the 3-D
+// hemisphere of test_colony3d.cpp) approximates.
 #pragma once
 
 #include <array>
@@ -73,7 +74,7 @@ void add_patch(Nodes2d& nodes, std::vector<Quad>& quads, int n_t, int n_r, int b
 }
 
 // The quads with their centre above y = 0, on nodes renumbered to those they use.
-void keep_upper_half(Nodes2d& nodes, std::vector<Quad>& quads) {
+inline void keep_upper_half(Nodes2d& nodes, std::vector<Quad>& quads) {
   Nodes2d kept_nodes;
   std::vector<Quad> kept;
   for (const auto& q : quads) {
@@ -88,7 +89,7 @@ void keep_upper_half(Nodes2d& nodes, std::vector<Quad>& quads) {
   quads = std::move(kept);
 }
 
-std::array<double, 2> rotated(std::array<double, 2> p, int quarter) {
+inline std::array<double, 2> rotated(std::array<double, 2> p, int quarter) {
   for (int q = 0; q < quarter; ++q) p = {-p[1], p[0]};
   return p;
 }
@@ -166,15 +167,17 @@ inline Mesh disc_in_annulus(const DiscSpec& spec) {
   return m;
 }
 
-// The steady radially symmetric problem: D_b (phi'' + phi'/r) = k phi / (K + phi) in the colony
-// r < 1, D_f (phi'' + phi'/r) = 0 in the annulus 1 < r < r_outer, phi(r_outer) = 1, phi and
+// The steady radially symmetric problem in `dimension` 2 (a disc colony) or 3 (a ball, or the
+// hemisphere on a symmetry plane): D_b (phi'' + (d - 1) phi'/r) = k phi / (K + phi) in the colony
+// r < 1, D_f (phi'' + (d - 1) phi'/r) = 0 in the shell 1 < r < r_outer, phi(r_outer) = 1, phi and
 // D phi' continuous at r = 1.
 struct RadialMonod {
   double d_biofilm, k, half_saturation, d_fluid, r_outer;
+  int dimension = 2;
 
   // The flux density into the colony at r = 1, D_b phi'(1): shooting on phi(0), bisected until
-  // phi(r_outer) = 1 to round-off; each shot is RK4 in (phi, r phi') over `steps` steps from a
-  // series start at r0 (its error O(r0^4) = 1e-16).
+  // phi(r_outer) = 1 to round-off; each shot is RK4 in (phi, r^(d-1) phi') over `steps` steps from
+  // a series start at r0 (its error O(r0^4) = 1e-16).
   double interface_flux_density(int steps = 20000) const {
     double lo = 0, hi = 1;
     for (int it = 0; it < 100; ++it) {
@@ -186,15 +189,18 @@ struct RadialMonod {
 
  private:
   double reaction(double phi) const { return k * phi / (half_saturation + phi); }
+  double area_factor(double r) const { return std::pow(r, dimension - 1); }  // r^(d-1)
 
   // (phi(1), phi'(1)) from phi(0) = centre.
   std::pair<double, double> shoot(double centre, int steps) const {
     const double r0 = 1e-4;
-    const double c2 = reaction(centre) / (2 * d_biofilm);
-    double r = r0, phi = centre + c2 * r0 * r0 / 2, w = c2 * r0 * r0;  // w = r phi'
+    const double c2 = reaction(centre) / (dimension * d_biofilm);  // phi = centre + c2 r^2 / 2
+    double r = r0, phi = centre + c2 * r0 * r0 / 2,
+           w = c2 * r0 * area_factor(r0);  // w = r^(d-1) phi'
     const double h = (1 - r0) / steps;
     auto rhs = [&](double rr, double p, double ww) {
-      return std::pair<double, double>{ww / rr, rr * reaction(p) / d_biofilm};
+      return std::pair<double, double>{ww / area_factor(rr),
+                                       area_factor(rr) * reaction(p) / d_biofilm};
     };
     for (int s = 0; s < steps; ++s) {
       const auto k1 = rhs(r, phi, w);
@@ -205,14 +211,15 @@ struct RadialMonod {
       w += h / 6 * (k1.second + 2 * k2.second + 2 * k3.second + k4.second);
       r += h;
     }
-    return {phi, w};  // at r = 1, r phi' = phi'
+    return {phi, w};  // at r = 1, r^(d-1) phi' = phi'
   }
 
-  // phi(r_outer): the annulus carries the flux D_b phi'(1) as phi = phi(1) + (D_b phi'(1) / D_f)
-  // ln r.
+  // phi(r_outer): the shell carries the flux D_b phi'(1) as phi = phi(1) + s ln r (d = 2) or
+  // phi(1) + s (1 - 1/r) (d = 3), s = D_b phi'(1) / D_f.
   double outer_value(double centre, int steps) const {
     const auto [phi1, slope1] = shoot(centre, steps);
-    return phi1 + d_biofilm * slope1 / d_fluid * std::log(r_outer);
+    const double s = d_biofilm * slope1 / d_fluid;
+    return phi1 + s * (dimension == 2 ? std::log(r_outer) : 1 - 1 / r_outer);
   }
 };
 
