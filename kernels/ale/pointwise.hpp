@@ -32,11 +32,13 @@ struct PseudoElasticPhysics {
   }
 
   // sigma = s (lambda tr(eps) I + 2 mu eps), eps = sym(grad d); linear, so the tangent is the same.
-  KOKKOS_INLINE_FUNCTION void stress(Real s, const Real g[3][3], Real sigma[3][3]) const {
-    const Real tr = g[0][0] + g[1][1] + g[2][2];
+  // T is Real or a SIMD pack of points.
+  template <class T>
+  KOKKOS_INLINE_FUNCTION void stress(const T& s, const T g[3][3], T sigma[3][3]) const {
+    const T s_mu = s * mu, s_lambda_tr = s * lambda * (g[0][0] + g[1][1] + g[2][2]);
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        sigma[i][j] = s * (mu * (g[i][j] + g[j][i]) + (i == j ? lambda * tr : 0.0));
+      for (int j = 0; j < 3; ++j) sigma[i][j] = s_mu * (g[i][j] + g[j][i]);
+    for (int i = 0; i < 3; ++i) sigma[i][i] += s_lambda_tr;
   }
 
   KOKKOS_INLINE_FUNCTION void residual(const QpData<0>& q, const Real[3], const Real gu[3][3],
@@ -44,11 +46,28 @@ struct PseudoElasticPhysics {
     stress(scale(q), gu, f1);
     f0[0] = f0[1] = f0[2] = 0;
   }
-  KOKKOS_INLINE_FUNCTION void tangent(const QpData<0>& q, const Real[3], const Real[3][3],
-                                      const Real[3], const Real gdu[3][3], Real df0[3],
+
+  // The tangent differs between points only by the stiffness scale, so a stored tangent needs
+  // that one number per point with the geometry (11 doubles instead of the map's 45): the
+  // StoredPointStates of kernels/core/stored_tangent.hpp.
+  template <class T>
+  struct PointState {
+    T scale;
+  };
+  KOKKOS_INLINE_FUNCTION PointState<Real> point_state(const QpData<0>& q, const Real[3],
+                                                      const Real[3][3]) const {
+    return {scale(q)};
+  }
+  template <class T>
+  KOKKOS_INLINE_FUNCTION void tangent_at(const PointState<T>& s, const T[3], const T gdu[3][3],
+                                         T df0[3], T df1[3][3]) const {
+    stress(s.scale, gdu, df1);
+    df0[0] = df0[1] = df0[2] = T(0);
+  }
+  KOKKOS_INLINE_FUNCTION void tangent(const QpData<0>& q, const Real u[3], const Real gu[3][3],
+                                      const Real du[3], const Real gdu[3][3], Real df0[3],
                                       Real df1[3][3]) const {
-    stress(scale(q), gdu, df1);
-    df0[0] = df0[1] = df0[2] = 0;
+    tangent_at(point_state(q, u, gu), du, gdu, df0, df1);
   }
 };
 

@@ -20,10 +20,10 @@
 // for a scalar field and 16 KiB for the fluid's 4 components, less where the Physics declares a
 // symmetric or block-decoupled map (3 KiB for the structure and mesh motion). A Physics whose
 // tangent is cheap given a small per-point state can store that state and the geometry instead
-// (StoredPointStates: the fluid, 34 doubles per point instead of 256) and have its tangent
-// evaluated on SIMD packs. Against either, the on-the-fly apply recomputes geometry, interpolates
-// every auxiliary field with gradients and evaluates the physics at every point
-// (bench/README.md has the measured bytes and rates).
+// (StoredPointStates: the fluid, 34 doubles per point instead of 256; mesh motion, 11 instead of
+// 45) and have its tangent evaluated on SIMD packs. Against either, the on-the-fly apply
+// recomputes geometry, interpolates every auxiliary field with gradients and evaluates the physics
+// at every point (bench/README.md has the measured bytes and rates).
 #pragma once
 
 #include <vector>

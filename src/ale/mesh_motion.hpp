@@ -110,7 +110,7 @@ class MeshMotion {
   DeviceMesh dmesh_;
   ElementGroups groups_;
   ElementOperator<PseudoElasticPhysics> op_;
-  StoredTangentOf<PseudoElasticPhysics> stored_;  // op_'s tangent on the current coordinates
+  FieldStoreOf<PseudoElasticPhysics> stored_;  // op_'s tangent on the current coordinates
   CsrMatrix matrix_;
   BoomerAmg amg_;
 };

@@ -3,8 +3,9 @@
 // SUPG, Monod and a deforming block; the stabilised fluid; St. Venant-Kirchhoff and Neo-Hooke
 // structures; pseudo-elastic mesh motion with stiffening), on a distorted two-block mesh, with
 // both scatter policies and both storage widths (SIMD batches of simd_width elements, and one
-// element per batch as on a GPU): apply, diagonal and assembled matrix; and the fluid's point-state
-// store (its tangent re-evaluated from a stored per-point state) for every linearisation.
+// element per batch as on a GPU): apply, diagonal and assembled matrix; and the point-state stores
+// of the fluid (for every linearisation) and of mesh motion (the tangent re-evaluated from a
+// stored per-point state).
 //
 // Tolerance 1e-12 relative to the largest entry: the stored and the on-the-fly products evaluate
 // the same sums in another order (the inverse Jacobian folded into the stored matrix instead of
@@ -104,7 +105,7 @@ Defects stored_defects(const SmallMesh& m, const ElementOperator<Physics>& op, C
   return d;
 }
 
-// The point-state store (the fluid's) has no diagonal or assembly of its own.
+// A point-state store has no diagonal or assembly of its own.
 template <int W, class Physics>
 Defects point_state_defects(const SmallMesh& m, const ElementOperator<Physics>& op, ConstVector u,
                             ConstVector du, Scatter scatter) {
@@ -214,5 +215,12 @@ TEST(StoredTangent, MeshMotionEqualsOnTheFlyAndAssembled) {
   const NodalView aux = auxiliary(m, 0, [](int, double, double, double) { return 0.0; });
   const ElementOperator<PseudoElasticPhysics> op(m.conn, m.x, m.block, aux, p);
   const Vector u("test::u", 3 * m.n_nodes());
-  expect_stored_equals_on_the_fly(m, op, u, direction(m, 3));
+  const Vector du = direction(m, 3);
+  expect_stored_equals_on_the_fly(m, op, u, du);
+  for (Scatter scatter : {Scatter::Atomic, Scatter::Colored})
+    for (const Defects& d : {point_state_defects<simd_width>(m, op, u, du, scatter),
+                             point_state_defects<1>(m, op, u, du, scatter)}) {
+      EXPECT_LT(d.apply_vs_on_the_fly, 1e-12);
+      EXPECT_LT(d.apply_vs_matrix, 1e-12);
+    }
 }
