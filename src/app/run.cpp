@@ -117,6 +117,11 @@ class Driver {
   // continues from one with --restart.
   int run_flow() {
     const int first = first_flow_step_;
+    try {
+      start_transient_flow(first > 0);
+    } catch (const SolveError& e) {
+      return failed(e, first, sim_.time());
+    }
     write(first, sim_.time(), {});
     // A restarted run's series continues after the checkpoint's step: the forces at that step are
     // reactions of the step that led there, which the checkpoint does not hold.
@@ -156,6 +161,7 @@ class Driver {
     int step = 0;
     try {
       if (sim_.fluid && scene_.fluid.mode == FlowMode::Steady) solve_steady_flow("steady flow");
+      start_transient_flow(false);
       write(0, 0.0, {});
       if (scene_.time.mode == TimeMode::Steady) {
         const NewtonResult r = sim_.scalar.solve_steady("steady solve");
@@ -196,6 +202,7 @@ class Driver {
     for (int n : gamma) gamma_start.push_back(sim_.mesh.x[n]);
     int k = first;
     try {
+      start_transient_flow(first > 0);
       for (k = first;; ++k) {
         // Inner loop on the current mesh, from the state the previous growth step left; a steady
         // flow is solved once per mesh (the biological time scale is far slower than the flow's).
@@ -327,6 +334,14 @@ class Driver {
       std::cout << label << ": " << r.iterations << " Newton iterations, " << r.krylov_iterations
                 << " Krylov iterations, residual "
                 << (r.residual_history.empty() ? 0.0 : r.residual_history.back()) << "\n";
+  }
+
+  // fields.fluid.initial: steady: a transient flow starts from its steady state, solved once before
+  // the first step (a restarted run continues from its checkpoint instead).
+  void start_transient_flow(bool restarted) {
+    if (sim_.fluid && scene_.fluid.mode == FlowMode::Transient &&
+        scene_.fluid.initial == FlowStart::Steady && !restarted)
+      solve_steady_flow("initial steady flow");
   }
 
   void advance_flow(const std::string& label, double dt) { sim_.advance_flow(label, dt); }

@@ -775,6 +775,16 @@ NewtonResult FsiProblem::step(double dt, const std::string& label) {
 }
 
 NewtonResult FsiProblem::solve_steady(const std::string& label) {
+  // A dynamic structure is solved at equilibrium here and switched back, also on a failure.
+  struct EquilibriumScope {
+    StructureField& structure;
+    bool was_quasi_static;
+    explicit EquilibriumScope(StructureField& s)
+        : structure(s), was_quasi_static(s.settings().quasi_static) {
+      s.set_quasi_static(true);
+    }
+    ~EquilibriumScope() { structure.set_quasi_static(was_quasi_static); }
+  } equilibrium(impl_->structure);
   prepare_steady();
   const NewtonResult r = solve();
   if (!r.converged) {

@@ -109,7 +109,9 @@ class FsiProblem {
   // structure). Throws SolveError (field "fsi", the label, why with each field's residual
   // history) if Newton fails even with cut steps; the state is then the last valid one.
   NewtonResult step(double dt, const std::string& label);
-  // The steady coupled problem (steady fluid, quasi-static structure).
+  // The steady coupled problem (steady fluid, the structure at equilibrium: a dynamic one is
+  // solved quasi-statically for this solve and left at rest, the state a transient run may start
+  // from).
   NewtonResult solve_steady(const std::string& label);
 
   // A growth step moved the reference mesh: the structure keeps its displacement relative to the

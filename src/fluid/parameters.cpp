@@ -52,10 +52,10 @@ FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
   FluidSection section;
   auto node = fields.get("fluid");
   if (!node) return section;
-  MapView m(
-      fields.checker(), *node, fields.key("fluid"),
-      {"enabled", "blocks", "density", "viscosity", "mode", "supg", "grad_div", "transient_tau",
-       "pseudo_2d", "viscous_form", "preconditioner", "body_force", "boundary_conditions"});
+  MapView m(fields.checker(), *node, fields.key("fluid"),
+            {"enabled", "blocks", "density", "viscosity", "mode", "initial", "supg", "grad_div",
+             "transient_tau", "pseudo_2d", "viscous_form", "preconditioner", "body_force",
+             "boundary_conditions"});
   FluidSettings& s = section.settings;
   section.enabled = get_bool(m, "enabled", true);
   s.blocks = block_list(m, "blocks", names.blocks, "the blocks that hold fluid");
@@ -66,6 +66,13 @@ FluidSection read_fluid_section(const MapView& fields, const MeshNames& names) {
   section.mode =
       get_enum(m, "mode", {{"steady", FlowMode::Steady}, {"transient", FlowMode::Transient}},
                std::optional<FlowMode>(section.mode));
+  section.initial =
+      get_enum(m, "initial", {{"rest", FlowStart::Rest}, {"steady", FlowStart::Steady}},
+               std::optional<FlowStart>(section.initial));
+  if (section.initial == FlowStart::Steady && section.mode == FlowMode::Steady)
+    m.checker().fail(*m.get("initial"), m.key("initial"), "a starting state for a steady flow",
+                     "steady",
+                     "rest, or mode: transient (the flow then starts from its steady state)");
   s.supg = get_bool(m, "supg", s.supg);
   s.grad_div = get_bool(m, "grad_div", s.grad_div);
   s.transient_tau = get_bool(m, "transient_tau", s.transient_tau);

@@ -13,6 +13,9 @@
 namespace biofsi {
 
 enum class FlowMode { Steady, Transient };  // transient: every inner step
+// The state a transient flow starts from: at rest, or the steady flow (with FSI: the steady
+// coupled state, the structure at equilibrium) for the boundary data at the start.
+enum class FlowStart { Rest, Steady };
 enum class FluidBcType { Velocity, NoSlip, Slip, Pressure, DoNothing };
 
 // A fluid boundary condition on a named face set:
@@ -33,6 +36,7 @@ struct FluidBcSpec {
 struct FluidSection {
   bool enabled = false;  // true when the scene has a fields.fluid section, unless enabled: false
   FlowMode mode = FlowMode::Steady;
+  FlowStart initial = FlowStart::Rest;  // transient mode only
   FluidSettings settings;
   std::vector<FluidBcSpec> boundary_conditions;
   // Body force per volume (3 expressions in x, y, z, t), e.g. a pulse that seeds vortex

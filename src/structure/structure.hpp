@@ -122,6 +122,9 @@ class StructureField {
   const StructureSettings& settings() const { return settings_; }
   // One-step-theta's theta from the next step on, in [0.5, 1] (std::invalid_argument otherwise).
   void set_theta(double theta);
+  // Quasi-static (true) or dynamic from the next step on: a dynamic structure is solved at
+  // equilibrium for the steady state a transient coupled run starts from (its velocity then 0).
+  void set_quasi_static(bool quasi_static) { settings_.quasi_static = quasi_static; }
   // The blocks' elements and nodes (sorted).
   const std::vector<int>& elements() const { return elements_; }
   const std::vector<int>& active_nodes() const { return active_nodes_; }

@@ -203,10 +203,11 @@ TEST(GrowthCaseC, GrowsMoreDownstreamThanUpstreamAndTheInnerLoopsBecomeStationar
 }
 
 // Case (c) as the paper runs it (c_shear.yaml): each inner step a transient monolithic FSI step
-// (dynamic film, ALE fluid) and a transport step on the moving domains, the inflow ramped up from
-// rest. On a very coarse mesh and a few steps (the full run is hours, README): the inner loops
-// run without a cut step, the film moves with a non-zero velocity (so u_S and the transport's
-// Phi div u_S term are active), the growth step moves the interface and the mesh stays valid.
+// (dynamic film, ALE fluid) and a transport step on the moving domains, from the steady coupled
+// state. On a very coarse mesh and a few steps (the full run is hours, README): the inner loops
+// run without a cut step, the growth step moves the interface, the film then moves towards its new
+// equilibrium with a non-zero velocity (so u_S and the transport's Phi div u_S term are active),
+// and the mesh stays valid.
 TEST(GrowthCaseCTransient, InnerLoopsOfTransientFsiStepsRunWithoutCutSteps) {
   const fs::path dir = fresh_dir("c_transient");
   const std::vector<std::string> set = {"mesh.nx=10",         "mesh.blocks.0.ny=2",
@@ -218,20 +219,54 @@ TEST(GrowthCaseCTransient, InnerLoopsOfTransientFsiStepsRunWithoutCutSteps) {
   ASSERT_TRUE(std::regex_search(
       r.out, m, std::regex("fsi: ([0-9]+) monolithic solves, .* ([0-9]+) time steps cut;")))
       << r.out;
-  EXPECT_EQ(std::stoi(m[1]), 8) << r.out;  // 4 inner steps before and after the growth step
+  // The initial steady solve and 4 inner steps before and after the growth step.
+  EXPECT_EQ(std::stoi(m[1]), 9) << r.out;
   EXPECT_EQ(std::stoi(m[2]), 0) << r.out;
+  EXPECT_NE(r.out.find("initial steady flow:"), std::string::npos) << r.out;
   ASSERT_TRUE(std::regex_search(r.out, m, std::regex("interface moved max ([-0-9.e]+) mm")))
       << r.out;
   EXPECT_GT(std::stod(m[1]), 0.0) << r.out;
-  // The inflow has risen to 6% of its full value by t = 4 ms; the film's velocity is small but
-  // far above round-off.
+  // After the growth step the film starts towards the equilibrium of its grown shape: 4 ms later
+  // its velocity is small but far above round-off.
   double speed = 0;
-  for (double v : read_h5_dataset((dir / "checkpoint_000001.h5").string(), "structure_velocity"))
+  for (double v : read_h5_dataset(step_file(dir, 1), "structure_velocity"))
     speed = std::max(speed, std::abs(v));
-  std::cout << "case (c) transient, coarse: largest film velocity at t = 4 ms: " << speed
-            << " mm/ms\n";
+  std::cout << "case (c) transient, coarse: largest film velocity 4 ms after the growth step: "
+            << speed << " mm/ms\n";
   EXPECT_GT(speed, 1e-6);
   EXPECT_GT(min_quality_in(r.out), 0.5) << r.out;
+}
+
+// Started from the steady coupled state (fields.fluid.initial: steady), the transient inner loop
+// stays near it, so the wall shear stress and the flux density it leaves at the interface are the
+// quasi-steady run's up to the small drift of the transient scheme from the steady solve's state:
+// compared after the first inner loop, on the coarse mesh, as means over the interface nodes.
+// Measured after 20 inner steps: sigma 0.75 %, J 2e-6 (the substrate sees the flow only through
+// its convective velocity); bounds 3 % and 1e-3. (From rest the same loop leaves sigma 27 times
+// too large: docs/known-limits.md.)
+TEST(GrowthCaseCTransient, FromTheSteadyStateItsShearAndFluxAreTheQuasiSteadyOnes) {
+  const auto set = coarse({"time.steps=20", "growth.steps=1"});
+  const fs::path transient = fresh_dir("c_from_steady"), quasi = fresh_dir("c_quasi_steady");
+  const Captured a = run("cases/coroneo2013/c_shear.yaml", transient, set);
+  ASSERT_EQ(a.rc, 0) << a.err;
+  const Captured b = run("cases/coroneo2013/c_shear_quasi_steady.yaml", quasi, set);
+  ASSERT_EQ(b.rc, 0) << b.err;
+  const Mesh mesh = scene_mesh("cases/coroneo2013/c_shear.yaml", set);
+  const auto& gamma = mesh.node_sets.at("biofilm_fluid");
+  auto interface_mean = [&](const fs::path& dir, const char* dataset) {
+    const auto v = read_h5_dataset(step_file(dir, 0), dataset);
+    double sum = 0;
+    for (int n : gamma) sum += v[n];
+    return sum / gamma.size();
+  };
+  const double sigma_t = interface_mean(transient, "wall_shear_stress"),
+               sigma_q = interface_mean(quasi, "wall_shear_stress"),
+               j_t = interface_mean(transient, "flux_density"),
+               j_q = interface_mean(quasi, "flux_density");
+  std::cout << "case (c) coarse, after the first inner loop: mean sigma transient " << sigma_t
+            << ", quasi-steady " << sigma_q << "; mean J " << j_t << ", " << j_q << "\n";
+  EXPECT_NEAR(sigma_t, sigma_q, 0.03 * sigma_q);
+  EXPECT_NEAR(j_t, j_q, 1e-3 * j_q);
 }
 
 namespace {

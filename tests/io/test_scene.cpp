@@ -527,6 +527,7 @@ const std::string kFluid = R"yaml(  fluid:
     density: 1.0e-3
     viscosity: 1.0e-3
     mode: transient
+    initial: steady
     supg: false
     grad_div: false
     transient_tau: false
@@ -554,6 +555,7 @@ TEST(Scene, ReadsTheFluidField) {
   EXPECT_EQ(f.density, 1e-3);
   EXPECT_EQ(f.viscosity, 1e-3);
   EXPECT_EQ(s.fluid.mode, FlowMode::Transient);
+  EXPECT_EQ(s.fluid.initial, FlowStart::Steady);
   EXPECT_FALSE(f.supg);
   EXPECT_FALSE(f.grad_div);
   EXPECT_FALSE(f.transient_tau);
@@ -576,6 +578,9 @@ TEST(Scene, ReadsTheFluidField) {
                   kFile);
   EXPECT_TRUE(d.fluid.settings.symmetric_viscous);
   EXPECT_EQ(d.fluid.settings.preconditioner, FluidPreconditioner::Simple);
+  EXPECT_EQ(
+      parse_scene(replaced(with_fluid(kFull), "    initial: steady\n", ""), kFile).fluid.initial,
+      FlowStart::Rest);
 }
 
 TEST(Scene, RejectsBadFluidInput) {
@@ -592,6 +597,12 @@ TEST(Scene, RejectsBadFluidInput) {
                "fields.fluid.boundary_conditions[4].value", "1 + q", "an expression");
   expect_error(replaced(good, "type: slip", "type: sliding"), line_of(good, "type: slip"),
                "fields.fluid.boundary_conditions[2].type", "sliding", "one of");
+  expect_error(replaced(good, "initial: steady", "initial: developed"),
+               line_of(good, "initial: steady"), "fields.fluid.initial", "developed", "one of");
+  // A steady flow has no starting state to choose.
+  expect_error(replaced(good, "mode: transient\n    initial", "mode: steady\n    initial"),
+               line_of(good, "initial: steady"), "fields.fluid.initial", "steady",
+               "rest, or mode: transient");
   // A prescribed scalar velocity would silently lose against the fluid's.
   const std::string both = replaced(kFull, "fields:\n", "fields:\n" + kFluid);
   expect_error(both, line_of(both, "velocity: [\"0.1"), "fields.scalar.velocity", "",
@@ -763,7 +774,8 @@ TEST(Scene, RejectsInconsistentCoupledScenes) {
                line_of(good, "type: fixed"), "fields.structure.boundary_conditions[0].value", "",
                "no value key");
   // A dynamic structure in a steady flow has no steady coupled problem.
-  const std::string steady = replaced(good, "    mode: transient\n", "    mode: steady\n");
+  const std::string steady =
+      replaced(good, "    mode: transient\n    initial: steady\n", "    mode: steady\n");
   expect_error(steady, line_of(steady, "mode: dynamic"), "fields.structure.mode", "dynamic",
                "quasi_static");
   // The interface must carry the fluid's no-slip condition (its velocity becomes the structure's).
