@@ -184,6 +184,22 @@ def physical(kind, name, tags):
     return 'Physical %s("%s") = {%s};' % (kind, name, ", ".join(map(str, tags)))
 
 
+def parameters(counts):
+    """The refine parameter and the division counts (name, expression, comment) it scales."""
+    lines = ['SetFactory("Built-in");', "If (!Exists(refine))", "  refine = 1;", "EndIf"]
+    for name, value, comment in counts:
+        lines.append(("%s = %s;" % (name, value)).ljust(33) + "// " + comment)
+    return lines
+
+
+def colony_physicals(biofilm, fluid, interface, face_sets):
+    """Blocks biofilm and fluid, the face set biofilm_fluid and the domain's face sets (a list of
+    (name, surfaces))."""
+    out = [physical("Volume", "biofilm", biofilm), physical("Volume", "fluid", fluid),
+           physical("Surface", "biofilm_fluid", interface)]
+    return out + [physical("Surface", name, tags) for name, tags in face_sets]
+
+
 def hemisphere():
     geo = Geo()
     biofilm, fluid, interface, floor, outer, _ = colony(
@@ -195,21 +211,15 @@ def hemisphere():
         "// colonies3d.py; the growth tests (tests/growth/test_colony3d.cpp) read it.",
         "// Blocks: biofilm, fluid. Face sets: biofilm_fluid (the colony's sphere), outer (the outer",
         "// sphere), floor (z = 0). Parameter (gmsh -setnumber refine R): every count scales with R.",
-        'SetFactory("Built-in");',
-        "If (!Exists(refine))",
-        "  refine = 1;",
-        "EndIf",
-        "n_arc = 2 * Round(4 * refine);   // a quarter of the equator, an edge of a patch",
-        "n_half = n_arc / 2;              // from the equator up to the top patch",
-        "n_ring = Round(4 * refine);      // radial, core to sphere",
-        "n_fluid = Round(8 * refine);     // radial, sphere to the outer sphere",
-        "q_fluid = 1.1^(1 / refine);      // element growth away from the colony",
-    ]
-    physicals = [physical("Volume", "biofilm", biofilm), physical("Volume", "fluid", fluid),
-                 physical("Surface", "biofilm_fluid", interface),
-                 physical("Surface", "outer", sorted(outer.values())),
-                 physical("Surface", "floor", floor)]
-    return geo.text(header, physicals)
+    ] + parameters([
+        ("n_arc", "2 * Round(4 * refine)", "a quarter of the equator, an edge of a patch"),
+        ("n_half", "n_arc / 2", "from the equator up to the top patch"),
+        ("n_ring", "Round(4 * refine)", "radial, core to sphere"),
+        ("n_fluid", "Round(8 * refine)", "radial, sphere to the outer sphere"),
+        ("q_fluid", "1.1^(1 / refine)", "element growth away from the colony"),
+    ])
+    return geo.text(header, colony_physicals(biofilm, fluid, interface,
+                                             [("outer", sorted(outer.values())), ("floor", floor)]))
 
 
 def channel(centres, radii, half_width, height, x_in, x_out):
@@ -270,25 +280,19 @@ def channel(centres, radii, half_width, height, x_in, x_out):
         "// spheres), floor (z = 0), walls (y = +-%g and z = %g), inflow (x = %g), outflow (x = %g)."
         % (half_width, height, x_in, x_out),
         "// Parameter (gmsh -setnumber refine R): every count scales with R.",
-        'SetFactory("Built-in");',
-        "If (!Exists(refine))",
-        "  refine = 1;",
-        "EndIf",
-        "n_arc = 2 * Round(2 * refine);   // a quarter of a colony's equator, a side of its box",
-        "n_half = n_arc / 2;              // from the equator up to the top patch",
-        "n_ring = Round(2 * refine);      // radial, core to sphere",
-        "n_fluid = Round(3 * refine);     // sphere to box",
-        "q_fluid = 1.15^(1 / refine);     // element growth away from the colony",
-        "n_gap = Round(2 * refine);       // between two boxes",
-        "n_in = Round(3 * refine);        // inlet to the first box",
-        "n_out = Round(6 * refine);       // last box to the outlet",
-    ]
-    physicals = [physical("Volume", "biofilm", biofilm), physical("Volume", "fluid", fluid),
-                 physical("Surface", "biofilm_fluid", interface),
-                 physical("Surface", "floor", floor), physical("Surface", "walls", walls),
-                 physical("Surface", "inflow", [ends[0]]),
-                 physical("Surface", "outflow", [ends[1]])]
-    return geo.text(header, physicals)
+    ] + parameters([
+        ("n_arc", "2 * Round(2 * refine)", "a quarter of a colony's equator, a side of its box"),
+        ("n_half", "n_arc / 2", "from the equator up to the top patch"),
+        ("n_ring", "Round(2 * refine)", "radial, core to sphere"),
+        ("n_fluid", "Round(3 * refine)", "sphere to box"),
+        ("q_fluid", "1.15^(1 / refine)", "element growth away from the colony"),
+        ("n_gap", "Round(2 * refine)", "between two boxes"),
+        ("n_in", "Round(3 * refine)", "inlet to the first box"),
+        ("n_out", "Round(6 * refine)", "last box to the outlet"),
+    ])
+    return geo.text(header, colony_physicals(
+        biofilm, fluid, interface,
+        [("floor", floor), ("walls", walls), ("inflow", [ends[0]]), ("outflow", [ends[1]])]))
 
 
 if __name__ == "__main__":

@@ -5,20 +5,49 @@
 // hemisphere of test_colony3d.cpp) approximates.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "growth/growth.hpp"
 #include "mesh/mesh.hpp"
+#include "scalar/transport.hpp"
 
 namespace colony {
 
 using biofsi::Mesh;
 using biofsi::Point;
+
+// The colony tests' substrate: Monod consumption in the biofilm (block 0), diffusion in the fluid
+// (block 1), Newton to near round-off so that the flux is the discretisation's.
+constexpr double kBiofilmDiffusivity = 0.5, kMonodRate = 0.1, kHalfSaturation = 0.1;
+constexpr double kFluidDiffusivity = 1.0;
+
+inline biofsi::TransportSettings monod_settings() {
+  biofsi::TransportSettings ts;
+  ts.coefficients.diffusivity[0] = kBiofilmDiffusivity;
+  ts.coefficients.monod_rate[0] = kMonodRate;
+  ts.coefficients.monod_half_saturation[0] = kHalfSaturation;
+  ts.coefficients.diffusivity[1] = kFluidDiffusivity;
+  ts.newton.rel_tol = 1e-12;
+  ts.newton.abs_tol = 1e-14;
+  return ts;
+}
+
+// The flux into the colony of the steady substrate with phi = 1 on the face set `outer`.
+inline biofsi::BoundaryFlux steady_flux_into_colony(const Mesh& mesh) {
+  biofsi::TransportField field(
+      mesh, monod_settings(),
+      {{"outer", biofsi::ScalarBcKind::Dirichlet, [](const Point&, double) { return 1.0; }}});
+  field.solve_steady("steady");
+  return field.boundary_flux("biofilm_fluid", mesh.block_index("biofilm"));
+}
 
 struct DiscSpec {
   int n = 8;             // elements along a quarter of the circle (and a side of the core)
@@ -165,6 +194,37 @@ inline Mesh disc_in_annulus(const DiscSpec& spec) {
     if (biofsi::check_element(m, m.conn[e]).shape != biofsi::ElementShape::Valid)
       throw std::logic_error("disc_in_annulus: element " + std::to_string(e) + " is not valid");
   return m;
+}
+
+// `steps` growth steps of `gs`, each on the steady substrate of the moved mesh.
+inline void grow_on_steady_substrate(Mesh& mesh, biofsi::MeshMotion& motion,
+                                     const biofsi::GrowthSettings& gs, int steps) {
+  const std::vector<int> nodes = mesh.node_sets.at("biofilm_fluid");
+  for (int step = 1; step <= steps; ++step) {
+    const biofsi::BoundaryFlux flux = steady_flux_into_colony(mesh);
+    const biofsi::InterfaceMotion im =
+        biofsi::interface_motion(mesh, gs, flux.density, std::vector<double>(nodes.size(), 0.0));
+    biofsi::grow(mesh, motion, gs, im, "growth step " + std::to_string(step));
+  }
+}
+
+// The interface nodes' distances `radius(x)` from the colony's centre: their mean and their
+// spread (largest minus smallest) relative to the mean.
+struct Roundness {
+  double mean = 0, spread = 0;
+};
+template <class Radius>
+Roundness roundness(const Mesh& mesh, Radius radius) {
+  const std::vector<int>& nodes = mesh.node_sets.at("biofilm_fluid");
+  double lo = 1e300, hi = 0, sum = 0;
+  for (int n : nodes) {
+    const double r = radius(mesh.x[n]);
+    lo = std::min(lo, r);
+    hi = std::max(hi, r);
+    sum += r;
+  }
+  const double mean = sum / nodes.size();
+  return {mean, (hi - lo) / mean};
 }
 
 // The steady radially symmetric problem in `dimension` 2 (a disc colony) or 3 (a ball, or the

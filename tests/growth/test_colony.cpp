@@ -17,11 +17,10 @@
 #include "scene_run.hpp"
 
 using namespace biofsi;
+using colony::kBiofilmDiffusivity, colony::kMonodRate, colony::kHalfSaturation,
+    colony::kFluidDiffusivity, colony::monod_settings, colony::steady_flux_into_colony;
 
 namespace {
-
-constexpr double kBiofilmDiffusivity = 0.5, kMonodRate = 0.1, kHalfSaturation = 0.1;
-constexpr double kFluidDiffusivity = 1.0;
 
 colony::DiscSpec disc_spec(int n) {
   colony::DiscSpec s;
@@ -29,26 +28,6 @@ colony::DiscSpec disc_spec(int n) {
   s.n_ring = n / 2;
   s.n_fluid = n;
   return s;
-}
-
-TransportSettings monod_settings() {
-  TransportSettings ts;
-  ts.coefficients.diffusivity[0] = kBiofilmDiffusivity;
-  ts.coefficients.monod_rate[0] = kMonodRate;
-  ts.coefficients.monod_half_saturation[0] = kHalfSaturation;
-  ts.coefficients.diffusivity[1] = kFluidDiffusivity;
-  ts.newton.rel_tol = 1e-12;
-  ts.newton.abs_tol = 1e-14;
-  return ts;
-}
-
-// The flux density into the colony of the steady substrate with phi = 1 on the outer circle.
-BoundaryFlux steady_flux_into_colony(const Mesh& mesh) {
-  TransportField field(
-      mesh, monod_settings(),
-      {{"outer", ScalarBcKind::Dirichlet, [](const Point&, double) { return 1.0; }}});
-  field.solve_steady("steady");
-  return field.boundary_flux("biofilm_fluid", mesh.block_index("biofilm"));
 }
 
 double radial_reference(double r_outer) {
@@ -187,22 +166,8 @@ TEST(ColonyGrowth, ACircularColonyStaysCircular) {
   ASSERT_EQ(orient_interface(mesh, "biofilm_fluid", biofilm), "");
   const GrowthSettings gs = colony_growth(200);
   MeshMotion motion(mesh, gs.mesh_motion);
-  const auto nodes = mesh.node_sets.at("biofilm_fluid");
-  double mean = 0, spread = 0;
-  for (int step = 1; step <= 10; ++step) {
-    const BoundaryFlux flux = steady_flux_into_colony(mesh);
-    const InterfaceMotion im =
-        interface_motion(mesh, gs, flux.density, std::vector<double>(nodes.size(), 0.0));
-    grow(mesh, motion, gs, im, "growth step " + std::to_string(step));
-    double lo = 1e300, hi = 0;
-    mean = 0;
-    for (int n : nodes) {
-      lo = std::min(lo, radius(mesh.x[n]));
-      hi = std::max(hi, radius(mesh.x[n]));
-      mean += radius(mesh.x[n]) / nodes.size();
-    }
-    spread = (hi - lo) / mean;
-  }
+  colony::grow_on_steady_substrate(mesh, motion, gs, 10);
+  const auto [mean, spread] = colony::roundness(mesh, radius);
   std::cout << "after 10 growth steps: mean radius " << mean << ", relative spread " << spread
             << "\n";
   EXPECT_GT(mean, 1.1);  // it grew: about 0.02 per step
@@ -316,28 +281,19 @@ TEST(ColonyOnTheSubstratum, FluxIsTheRadialSolutionAndTheRimSlidesAlongTheWall) 
   GrowthSettings gs = colony_growth(200);
   gs.mesh_motion.sliding_walls.push_back("bottom");
   MeshMotion motion(mesh, gs.mesh_motion);
-  const auto nodes = mesh.node_sets.at("biofilm_fluid");
-  for (int step = 1; step <= 10; ++step) {
-    const BoundaryFlux flux = steady_flux_into_colony(mesh);
-    const InterfaceMotion im =
-        interface_motion(mesh, gs, flux.density, std::vector<double>(nodes.size(), 0.0));
-    grow(mesh, motion, gs, im, "growth step " + std::to_string(step));
-  }
-  double lo = 1e300, hi = 0, mean = 0;
+  colony::grow_on_steady_substrate(mesh, motion, gs, 10);
+  const auto [mean, spread] = colony::roundness(mesh, radius);
   int on_wall = 0;
-  for (int n : nodes) {
+  for (int n : mesh.node_sets.at("biofilm_fluid")) {
     const Point& p = mesh.x[n];
-    lo = std::min(lo, radius(p));
-    hi = std::max(hi, radius(p));
-    mean += radius(p) / nodes.size();
     if (position_in_sorted(mesh.node_sets.at("bottom"), n) >= 0) {
       EXPECT_EQ(p[1], 0.0);  // still on the wall
       ++on_wall;
     }
   }
   std::cout << "half colony after 10 growth steps: mean radius " << mean << ", relative spread "
-            << (hi - lo) / mean << "\n";
+            << spread << "\n";
   EXPECT_EQ(on_wall, 4);  // the two rim nodes, front and back
   EXPECT_GT(mean, 1.1);
-  EXPECT_LT((hi - lo) / mean, 2e-3);
+  EXPECT_LT(spread, 2e-3);
 }

@@ -17,39 +17,21 @@
 #include "scene_run.hpp"
 
 using namespace biofsi;
+using colony::kBiofilmDiffusivity, colony::kMonodRate, colony::kHalfSaturation,
+    colony::kFluidDiffusivity, colony::monod_settings, colony::steady_flux_into_colony;
 
 namespace {
 
-constexpr double kBiofilmDiffusivity = 0.5, kMonodRate = 0.1, kHalfSaturation = 0.1;
-constexpr double kFluidDiffusivity = 1.0, kOuterRadius = 3.0;  // hemisphere.geo's outer sphere
+constexpr double kOuterRadius = 3.0;  // hemisphere.geo's outer sphere
 
+// The hemisphere in its shell, interface cut to the biofilm side. Its floor has no condition: zero
+// flux, the symmetry plane of the whole ball.
 Mesh hemisphere(double refine) {
   Mesh mesh = mesh_geo_with_gmsh(std::string(BIOFSI_SOURCE_DIR) + "/cases/meshes/hemisphere.geo",
                                  {{"refine", refine}}, 0);
   const std::string error = orient_interface(mesh, "biofilm_fluid", mesh.block_index("biofilm"));
   if (!error.empty()) throw std::logic_error(error);
   return mesh;
-}
-
-TransportSettings monod_settings() {
-  TransportSettings ts;
-  ts.coefficients.diffusivity[0] = kBiofilmDiffusivity;
-  ts.coefficients.monod_rate[0] = kMonodRate;
-  ts.coefficients.monod_half_saturation[0] = kHalfSaturation;
-  ts.coefficients.diffusivity[1] = kFluidDiffusivity;
-  ts.newton.rel_tol = 1e-12;
-  ts.newton.abs_tol = 1e-14;
-  return ts;
-}
-
-// The steady substrate with phi = 1 on the outer sphere; the floor has zero flux, the symmetry
-// plane of the whole ball.
-BoundaryFlux steady_flux_into_colony(const Mesh& mesh) {
-  TransportField field(
-      mesh, monod_settings(),
-      {{"outer", ScalarBcKind::Dirichlet, [](const Point&, double) { return 1.0; }}});
-  field.solve_steady("steady");
-  return field.boundary_flux("biofilm_fluid", mesh.block_index("biofilm"));
 }
 
 double radius(const Point& p) { return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]); }
@@ -110,25 +92,11 @@ TEST(Colony3d, AHemisphereWithoutFlowGrowsSymmetrically) {
   gs.mesh_motion.fixed_walls = {"outer"};
   gs.mesh_motion.sliding_walls = {"floor"};
   MeshMotion motion(mesh, gs.mesh_motion);
-  const auto nodes = mesh.node_sets.at("biofilm_fluid");
-  const auto floor = mesh.node_sets.at("floor");
-  double mean = 0, spread = 0;
-  for (int step = 1; step <= 10; ++step) {
-    const BoundaryFlux flux = steady_flux_into_colony(mesh);
-    const InterfaceMotion im =
-        interface_motion(mesh, gs, flux.density, std::vector<double>(nodes.size(), 0.0));
-    grow(mesh, motion, gs, im, "growth step " + std::to_string(step));
-    double lo = 1e300, hi = 0;
-    mean = 0;
-    for (int n : nodes) {
-      lo = std::min(lo, radius(mesh.x[n]));
-      hi = std::max(hi, radius(mesh.x[n]));
-      mean += radius(mesh.x[n]) / nodes.size();
-    }
-    spread = (hi - lo) / mean;
-  }
+  colony::grow_on_steady_substrate(mesh, motion, gs, 10);
+  const auto [mean, spread] = colony::roundness(mesh, radius);
+  const auto& floor = mesh.node_sets.at("floor");
   int on_floor = 0;
-  for (int n : nodes)
+  for (int n : mesh.node_sets.at("biofilm_fluid"))
     if (position_in_sorted(floor, n) >= 0) {
       EXPECT_EQ(mesh.x[n][2], 0.0);  // the rim slid along the floor
       ++on_floor;
