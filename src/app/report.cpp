@@ -179,7 +179,7 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
     // preconditioner's (its remainder: the coupling-block products).
     o << "; fsi " << f.seconds_solve << " (residual " << f.seconds_residual << ", jacobian action "
       << f.seconds_tangent << ", shape derivatives " << f.seconds_shape << ", assembly "
-      << f.seconds_assembly << ", AMG set-up " << f.seconds_preconditioner_setup
+      << f.seconds_assembly << ", preconditioner set-up " << f.seconds_preconditioner_setup
       << ", preconditioner " << f.seconds_preconditioner << ", block Krylov structure "
       << f.seconds_inner[0] << ", block Krylov fluid " << f.seconds_inner[1]
       << ", block Krylov fluid mesh " << f.seconds_inner[2] << ")";

@@ -172,7 +172,8 @@ inline void print_fsi1(const std::string& mesh_name, const FsiBenchmarkResult& r
   const FsiStats& s = r.stats;
   std::printf(
       "[ measured ] FSI1 %s time [s]: residual %.1f, Jacobian action %.1f (shape "
-      "derivatives %.1f), assembly %.1f, AMG set-up %.1f, preconditioner %.1f (block Krylov: "
+      "derivatives %.1f), assembly %.1f, preconditioner set-up %.1f, preconditioner %.1f (block "
+      "Krylov: "
       "structure %d its %.1f s, fluid %d its %.1f s, fluid mesh %d its %.1f s)\n",
       refine, s.seconds_residual, s.seconds_tangent, s.seconds_shape, s.seconds_assembly,
       s.seconds_preconditioner_setup, s.seconds_preconditioner, s.inner_iterations[0],
