@@ -164,8 +164,9 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
       << f.inner_iterations[0] << ", fluid " << f.inner_iterations[1] << ", fluid mesh "
       << f.inner_iterations[2] << "), " << f.cut_steps << " time steps cut; per Newton step "
       << per_newton_step(f.krylov_iterations, f.newton_iterations) << " outer Krylov (inner "
-      << "fluid " << per_newton_step(f.inner_iterations[1], f.newton_iterations)
-      << "); max structure "
+      << "fluid " << per_newton_step(f.inner_iterations[1], f.newton_iterations) << "); "
+      << f.preconditioner_setups << " preconditioner set-ups, " << f.preconditioner_reuses
+      << " reused; max structure "
       << "displacement " << d_max << ", smallest scaled Jacobian of the deformed mesh "
       << sim.min_deformed_quality << "\n";
   }

@@ -113,6 +113,14 @@ struct FsiProblem::Impl {
   // term (kernels/fluid/pointwise.hpp); 1 for steady solves and between steps.
   double configuration_weight = 1;
   Vector b, g_old, g_now, grid_velocity;
+  // The assembled preconditioner's age (FsiSettings::reuse_preconditioner): the coefficients it was
+  // built with, the outer Krylov iterations of the first solve after that, and the preconditioner
+  // applies (one per outer iteration) since the last set-up call.
+  struct PreconditionerAge {
+    bool built = false;
+    double a = 0, inv_dt = 0;
+    int baseline = -1, applies = 0;
+  } age;
   // Work vectors.
   Vector xs, dxs, r_base, f_work, g_dir, pre_work;
   Vector xs_lin;    // the synced state the Jacobian is taken at
@@ -224,6 +232,7 @@ FsiProblem::~FsiProblem() = default;
 
 void FsiProblem::set_reference(const Mesh& mesh) {
   Impl& m = *impl_;
+  m.age.built = false;
   m.mesh_motion.set_coordinates(mesh);
   m.structure.set_reference_coordinates(mesh);
   // The smallest fluid element edge, for the size of the finite-difference shape perturbation.
@@ -459,7 +468,29 @@ void condense_fluid_block(const FsiProblem::Impl& m, const CsrMatrix& fluid,
       });
 }
 
+// Whether the preconditioner built for an earlier linearisation is still good enough
+// (FsiSettings::reuse_preconditioner).
+bool preconditioner_still_serves(FsiProblem::Impl& m) {
+  auto& age = m.age;
+  const int last = age.applies;
+  age.applies = 0;
+  // Steady solves start far from their solution (a flow from rest), where the Jacobian changes
+  // too much between Newton steps: measured, a reused preconditioner stalled the steady coupled
+  // solve of case (c) on its full mesh.
+  if (!m.settings.reuse_preconditioner || !age.built || m.inv_dt == 0 || age.a != m.a ||
+      age.inv_dt != m.inv_dt)
+    return false;
+  if (age.baseline < 0) age.baseline = last;
+  return last <= std::min(age.baseline * 3 / 2 + 3, m.settings.krylov_max_iterations / 4);
+}
+
 void setup_preconditioner(FsiProblem::Impl& m, FsiStats& stats) {
+  if (preconditioner_still_serves(m)) {
+    ++stats.preconditioner_reuses;
+    return;
+  }
+  m.age = {true, m.a, m.inv_dt, -1, 0};
+  ++stats.preconditioner_setups;
   const ConstVector xl = m.xs_lin;
   const CsrMatrix* fluid_matrix = nullptr;
   {
@@ -505,6 +536,7 @@ void block_solve(const CsrMatrix& a, const ApplyFn& field_preconditioner, bool s
 // structure. Left out: the fluid's dependence on the structure's motion (the interface velocity
 // a F_IΓ, partly condensed into the structure block, and the shape derivatives).
 void apply_preconditioner(FsiProblem::Impl& m, FsiStats& stats, ConstVector r, Vector z) {
+  ++m.age.applies;
   ScopedTimer t(stats.seconds_preconditioner);
   Vector zs = m.part(z, m.s_range), zf = m.part(z, m.f_range), zg = m.part(z, m.g_range);
   Vector rs = m.part(m.pre_work, m.s_range), rg = m.part(m.pre_work, m.g_range);
@@ -729,6 +761,7 @@ void FsiProblem::commit(double dt) {
 
 void FsiProblem::restore() {
   Impl& m = *impl_;
+  m.age.built = false;  // a failed solve: the next one starts from a fresh preconditioner
   m.fluid.restore_old_state();
   m.configuration_weight = 1;
   copy(m.g_old, m.g_now);

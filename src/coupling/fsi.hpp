@@ -78,6 +78,13 @@ struct FsiSettings {
   // down only 15x (1e-2 with rel_tol 1e-6: 36 outer iterations over the step's 3 Newton).
   double inner_tolerance = 1e-2;
   int inner_max_iterations = 100;
+  // Keep the assembled preconditioner (the fields' matrices, the fluid's factorisation or SIMPLE,
+  // the structure's AMG) across the Newton and time steps of a transient run while the step's
+  // coefficients are the same and the last solve needed at most 1.5 times the outer Krylov
+  // iterations of the first solve after the rebuild, plus 3 (and at most a quarter of
+  // krylov_max_iterations). The Jacobian action is matrix-free, so only the preconditioner ages.
+  // Steady solves always rebuild.
+  bool reuse_preconditioner = false;
   // A time step whose Newton solve fails is retried as 2, 4, ... 2^max_step_cuts sub-steps.
   int max_step_cuts = 4;
 };
@@ -92,6 +99,7 @@ struct FsiStats {
   std::array<double, 3> seconds_inner{};  // and their time
   double seconds_residual = 0, seconds_tangent = 0, seconds_shape = 0, seconds_assembly = 0,
          seconds_preconditioner_setup = 0, seconds_preconditioner = 0, seconds_solve = 0;
+  int preconditioner_setups = 0, preconditioner_reuses = 0;
 };
 
 class FsiProblem {

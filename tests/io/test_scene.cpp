@@ -717,6 +717,7 @@ const std::string kFsi = R"yaml(fsi:
   sliding_walls: [left, right]
   rel_tol: 1.0e-7
   max_iterations: 12
+  reuse_preconditioner: true
 )yaml";
 
 std::string with_structure(const std::string& scene) {
@@ -745,6 +746,7 @@ TEST(Scene, ReadsTheStructureFieldAndTheCoupling) {
   EXPECT_EQ(m.density, 1e-3);
   EXPECT_EQ(s.fsi.interface, "biofilm_fluid");
   EXPECT_EQ(s.fsi.shape_derivatives, ShapeDerivatives::None);
+  EXPECT_TRUE(s.fsi.reuse_preconditioner);
   // The fluid's inflow (left) and outflow (right, and bottom's pressure) join the fixed walls.
   EXPECT_EQ(s.fsi.mesh_motion.fixed_walls,
             (std::vector<std::string>{"bottom", "top", "left", "right"}));
@@ -783,6 +785,9 @@ TEST(Scene, RejectsInconsistentCoupledScenes) {
                                               "{boundary: biofilm_fluid, type: slip}");
   expect_error(slip_interface, line_of(slip_interface, "interface: biofilm_fluid"), "fsi.interface",
                "biofilm_fluid", "a fields.fluid boundary condition");
+  expect_error(replaced(good, "reuse_preconditioner: true", "reuse_preconditioner: 1"),
+               line_of(good, "reuse_preconditioner"), "fsi.reuse_preconditioner", "1",
+               "true or false");
   expect_error(replaced(good, "shape_derivatives: none", "shape_derivatives: exact"),
                line_of(good, "shape_derivatives"), "fsi.shape_derivatives", "exact", "one of");
   expect_error(replaced(good, "rel_tol: 1.0e-7", "rel_tol: 2"), line_of(good, "rel_tol: 1.0e-7"),
