@@ -117,18 +117,14 @@ class Driver {
   // continues from one with --restart.
   int run_flow() {
     const int first = first_flow_step_;
-    try {
-      start_transient_flow(first > 0);
-    } catch (const SolveError& e) {
-      return failed(e, first, sim_.time());
-    }
-    write(first, sim_.time(), {});
-    // A restarted run's series continues after the checkpoint's step: the forces at that step are
-    // reactions of the step that led there, which the checkpoint does not hold.
-    if (first == 0) series_.record(0, sim_.time());
     int step = first;  // the step being taken: a failed one writes the last valid state under its
                        // number
     try {
+      start_transient_flow(first > 0);
+      write(first, sim_.time(), {});
+      // A restarted run's series continues after the checkpoint's step: the forces at that step
+      // are reactions of the step that led there, which the checkpoint does not hold.
+      if (first == 0) series_.record(0, sim_.time());
       if (!sim_.flow_is_transient()) {
         solve_steady_flow("steady flow");
         step = 1;
