@@ -141,6 +141,7 @@ class Driver {
               if (i % scene_.output.every == 0 || i == scene_.time.steps) {
                 write(i, sim_.time(), {});
                 write_checkpoint(i, flow_checkpoint_data(i));
+                sim_.invalidate_preconditioners();
               }
             },
             first);
@@ -248,7 +249,10 @@ class Driver {
                     << ", change " << r.change << "), interface moved max "
                     << rep.max_interface_displacement << " mm, mesh "
                     << "quality " << format_range(rep.quality, sim_.mesh) << "\n";
-        if (g.checkpoint) write_checkpoint(k + 1, growth_checkpoint_data(k + 1));
+        if (g.checkpoint) {
+          write_checkpoint(k + 1, growth_checkpoint_data(k + 1));
+          sim_.invalidate_preconditioners();
+        }
       }
     } catch (const SolveError& e) {
       return failed(e, k, k * gs.dt_bio);

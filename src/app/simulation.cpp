@@ -154,6 +154,13 @@ void Simulation::check_deformed_quality(const Mesh& current, const std::string& 
   }
 }
 
+void Simulation::invalidate_preconditioners() {
+  scalar.invalidate_preconditioner();
+  if (fluid) fluid->invalidate_preconditioner();
+  if (structure) structure->invalidate_preconditioner();
+  if (fsi) fsi->invalidate_preconditioner();
+}
+
 double Simulation::time() const {
   if (transport_runs()) return scalar.time();
   return fluid ? fluid->time() : structure->time();

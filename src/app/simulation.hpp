@@ -37,6 +37,10 @@ struct Simulation {
   void advance_flow(const std::string& label, double dt);
   // Whether advance_flow steps something: a transient fluid, or a structure alone.
   bool flow_is_transient() const;
+  // Every field's and the coupling's preconditioner is set up afresh at its next Newton iteration:
+  // a run continued from a checkpoint starts that way, so the run that wrote it does the same
+  // and the two take the same steps.
+  void invalidate_preconditioners();
   // One-step-theta's theta of the fluid and the structure from the next step on (a time stage's).
   void set_theta(double theta);
   // Per node: the structure's displacement on its nodes, with FSI the fluid mesh's elsewhere.

@@ -113,14 +113,8 @@ struct FsiProblem::Impl {
   // term (kernels/fluid/pointwise.hpp); 1 for steady solves and between steps.
   double configuration_weight = 1;
   Vector b, g_old, g_now, grid_velocity;
-  // The assembled preconditioner's age (FsiSettings::reuse_preconditioner): the coefficients it was
-  // built with, the outer Krylov iterations of the first solve after that, and the preconditioner
-  // applies (one per outer iteration) since the last set-up call.
-  struct PreconditionerAge {
-    bool built = false;
-    double a = 0, inv_dt = 0;
-    int baseline = -1, applies = 0;
-  } age;
+  // The assembled preconditioner's age (FsiSettings::reuse_preconditioner).
+  PreconditionerReuse reuse;
   // Work vectors.
   Vector xs, dxs, r_base, f_work, g_dir, pre_work;
   Vector xs_lin;    // the synced state the Jacobian is taken at
@@ -232,7 +226,7 @@ FsiProblem::~FsiProblem() = default;
 
 void FsiProblem::set_reference(const Mesh& mesh) {
   Impl& m = *impl_;
-  m.age.built = false;
+  m.reuse.invalidate();
   m.mesh_motion.set_coordinates(mesh);
   m.structure.set_reference_coordinates(mesh);
   // The smallest fluid element edge, for the size of the finite-difference shape perturbation.
@@ -468,28 +462,7 @@ void condense_fluid_block(const FsiProblem::Impl& m, const CsrMatrix& fluid,
       });
 }
 
-// Whether the preconditioner built for an earlier linearisation is still good enough
-// (FsiSettings::reuse_preconditioner).
-bool preconditioner_still_serves(FsiProblem::Impl& m) {
-  auto& age = m.age;
-  const int last = age.applies;
-  age.applies = 0;
-  // Steady solves start far from their solution (a flow from rest), where the Jacobian changes
-  // too much between Newton steps: measured, a reused preconditioner stalled the steady coupled
-  // solve of case (c) on its full mesh.
-  if (!m.settings.reuse_preconditioner || !age.built || m.inv_dt == 0 || age.a != m.a ||
-      age.inv_dt != m.inv_dt)
-    return false;
-  if (age.baseline < 0) age.baseline = last;
-  return last <= std::min(age.baseline * 3 / 2 + 3, m.settings.krylov_max_iterations / 4);
-}
-
 void setup_preconditioner(FsiProblem::Impl& m, FsiStats& stats) {
-  if (preconditioner_still_serves(m)) {
-    ++stats.preconditioner_reuses;
-    return;
-  }
-  m.age = {true, m.a, m.inv_dt, -1, 0};
   ++stats.preconditioner_setups;
   const ConstVector xl = m.xs_lin;
   const CsrMatrix* fluid_matrix = nullptr;
@@ -536,7 +509,6 @@ void block_solve(const CsrMatrix& a, const ApplyFn& field_preconditioner, bool s
 // structure. Left out: the fluid's dependence on the structure's motion (the interface velocity
 // a F_IΓ, partly condensed into the structure block, and the shape derivatives).
 void apply_preconditioner(FsiProblem::Impl& m, FsiStats& stats, ConstVector r, Vector z) {
-  ++m.age.applies;
   ScopedTimer t(stats.seconds_preconditioner);
   Vector zs = m.part(z, m.s_range), zf = m.part(z, m.f_range), zg = m.part(z, m.g_range);
   Vector rs = m.part(m.pre_work, m.s_range), rg = m.part(m.pre_work, m.g_range);
@@ -696,6 +668,8 @@ NewtonResult FsiProblem::solve() {
   };
   sys.linearise = [&m](ConstVector x) { linearise(m, x); };
   sys.setup_preconditioner = [this, &m](ConstVector) { setup_preconditioner(m, stats_); };
+  sys.reuse = &m.reuse;
+  m.reuse.require({m.a, m.inv_dt});
   sys.precondition = [this, &m](ConstVector r, Vector z) { apply_preconditioner(m, stats_, r, z); };
   sys.blocks = {m.s_range, m.f_range, m.g_range};
   sys.roundoff_floors = [&m](ConstVector x) {
@@ -718,7 +692,14 @@ NewtonResult FsiProblem::solve() {
   // The loosest solve with which every field still meets its tolerance, with a safety factor 10.
   opt.forcing_floor_factor = 0.1;
   opt.floor_includes_roundoff = true;
+  // Steady solves start far from their solution (a flow from rest, or the last growth step's),
+  // where the Jacobian changes too much between Newton steps: measured on case (c)'s full mesh,
+  // 10 growth steps, an aged preconditioner halved the set-ups (13 for 25 Newton steps) but
+  // nearly doubled the outer Krylov iterations (256 against 147) and cost more than it saved.
+  opt.reuse_preconditioner = st.reuse_preconditioner && m.inv_dt != 0;
+  const int reuses_before = m.reuse.reuses();
   NewtonResult res = newton_solve(sys, x_, opt);
+  stats_.preconditioner_reuses += m.reuse.reuses() - reuses_before;
   stats_.last_krylov = res.krylov_history;
   stats_.last_residuals.clear();
   for (const auto& n : res.block_history) stats_.last_residuals.push_back({n[0], n[1], n[2]});
@@ -759,9 +740,11 @@ void FsiProblem::commit(double dt) {
   m.configuration_weight = 1;
 }
 
+void FsiProblem::invalidate_preconditioner() { impl_->reuse.invalidate(); }
+
 void FsiProblem::restore() {
   Impl& m = *impl_;
-  m.age.built = false;  // a failed solve: the next one starts from a fresh preconditioner
+  m.reuse.invalidate();  // a failed solve: the next one starts from a fresh preconditioner
   m.fluid.restore_old_state();
   m.configuration_weight = 1;
   copy(m.g_old, m.g_now);

@@ -79,12 +79,10 @@ struct FsiSettings {
   double inner_tolerance = 1e-2;
   int inner_max_iterations = 100;
   // Keep the assembled preconditioner (the fields' matrices, the fluid's factorisation or SIMPLE,
-  // the structure's AMG) across the Newton and time steps of a transient run while the step's
-  // coefficients are the same and the last solve needed at most 1.5 times the outer Krylov
-  // iterations of the first solve after the rebuild, plus 3 (and at most a quarter of
-  // krylov_max_iterations). The Jacobian action is matrix-free, so only the preconditioner ages.
-  // Steady solves always rebuild.
-  bool reuse_preconditioner = false;
+  // the structure's AMG) across the Newton and time steps of a transient run while it serves
+  // (PreconditionerReuse: the step's coefficients, the outer Krylov count). Steady solves always
+  // rebuild. The scene's solver.reuse_preconditioner.
+  bool reuse_preconditioner = NewtonOptions{}.reuse_preconditioner;
   // A time step whose Newton solve fails is retried as 2, 4, ... 2^max_step_cuts sub-steps.
   int max_step_cuts = 4;
 };
@@ -139,6 +137,9 @@ class FsiProblem {
   void set_mesh_displacement(const std::vector<Point>& g,
                              const std::vector<Point>& grid_velocity = {});
   const FsiStats& stats() const { return stats_; }
+  // The next Newton iteration sets the preconditioner up afresh, whatever its age (a checkpoint:
+  // a run continued from it starts that way).
+  void invalidate_preconditioner();
 
   // Verification access. prepare_step/prepare_steady set a solve up (as step/solve_steady do,
   // the predictor in state()); residual and tangent are the condensed monolithic ones,

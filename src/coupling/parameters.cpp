@@ -18,7 +18,7 @@ FsiSettings read_fsi_section(const Checker& c, const Node& node, const MeshNames
   }
   MapView m(c, node, "fsi",
             {"interface", "shape_derivatives", "fixed_walls", "sliding_walls", "rel_tol",
-             "max_iterations", "inner_tolerance", "reuse_preconditioner"});
+             "max_iterations", "inner_tolerance"});
   if (auto n = m.get("interface"))
     f.interface = boundary_name(c, *n, m.key("interface"), names.face_sets);
   else if (!growth_interface.empty())
@@ -48,7 +48,6 @@ FsiSettings read_fsi_section(const Checker& c, const Node& node, const MeshNames
       "a number in [0, 1) (relative tolerance of each preconditioner block's inner solve; 0: one "
       "application of the field's preconditioner)",
       f.inner_tolerance);
-  f.reuse_preconditioner = get_bool(m, "reuse_preconditioner", f.reuse_preconditioner);
   // The fluid's velocity on Γ is the structure's: the fluid must hold it (no_slip or velocity).
   bool held = false;
   for (const auto& bc : fluid.boundary_conditions)

@@ -194,7 +194,10 @@ class FluidField {
   Kokkos::View<const char*, MemSpace> constrained_mask() const { return fixed_; }
   const CsrMatrix& matrix() const { return matrix_; }
   // Back to the state the step began from (a coupled solve that failed).
-  void restore_old_state() { copy(state_old_, state_); }
+  void restore_old_state() {
+    copy(state_old_, state_);
+    reuse_.invalidate();
+  }
   ConstVector constrained_values() const { return fixed_values_; }
   // The mesh as the coupling moves it: node coordinates and nodal grid velocity (3 per node) on
   // the device; the host copy of the coordinates (boundary data, tractions, output) is refreshed
@@ -205,6 +208,9 @@ class FluidField {
   // Preconditioner set-up on the matrix of assemble_jacobian(u, true), as changed by the caller.
   void setup_preconditioner_on_matrix();
   void precondition(ConstVector r, Vector z) const;
+  // The next Newton iteration sets the preconditioner up afresh, whatever its age (a checkpoint:
+  // a run continued from it starts that way).
+  void invalidate_preconditioner() { reuse_.invalidate(); }
   const std::vector<int>& elements() const { return elements_; }
 
  private:
@@ -252,6 +258,7 @@ class FluidField {
   Vector state_, state_old_, scratch_;
   CsrMatrix matrix_;
   std::unique_ptr<AssembledPreconditioner> preconditioner_;
+  PreconditionerReuse reuse_;  // of preconditioner_ in this field's own Newton solves
   double time_ = 0;
   FluidStats stats_;
 };

@@ -366,7 +366,7 @@ void read_time(const Checker& c, const Node& node, Scene& scene) {
 }
 
 void read_solver(const Checker& c, const Node& node, Scene& scene) {
-  MapView m(c, node, "solver", {"newton", "linear", "scatter"});
+  MapView m(c, node, "solver", {"newton", "linear", "scatter", "reuse_preconditioner"});
   SolverSpec& s = scene.solver;
   auto positive = [](double v) { return v > 0; };
   const std::string tol = "a number > 0";
@@ -380,6 +380,7 @@ void read_solver(const Checker& c, const Node& node, Scene& scene) {
   s.linear_rel_tol = get_number(linear, "rel_tol", positive, tol, s.linear_rel_tol);
   s.linear_max_iterations = get_int(linear, "max_iterations", 1, s.linear_max_iterations);
   s.linear_restart = get_int(linear, "restart", 1, s.linear_restart);
+  s.reuse_preconditioner = get_bool(m, "reuse_preconditioner", s.reuse_preconditioner);
   s.scatter = get_enum(m, "scatter", {{"colored", Scatter::Colored}, {"atomic", Scatter::Atomic}},
                        std::optional<Scatter>(s.scatter));
 }
@@ -467,14 +468,18 @@ void set_time_and_solver(Scene& scene) {
   scalar.newton.krylov.max_iterations = solver.linear_max_iterations;
   scalar.newton.krylov.restart = solver.linear_restart;
   scalar.newton.eta_max = std::max(solver.linear_rel_tol, scalar.newton.eta_min);
+  scalar.newton.reuse_preconditioner = solver.reuse_preconditioner;
   FluidSettings& fluid = scene.fluid.settings;
   fluid.theta = t.theta;
   fluid.scatter = solver.scatter;
   fluid.newton_options.max_iterations =
       std::max(fluid.newton_options.max_iterations, solver.newton_max_iterations);
+  fluid.newton_options.reuse_preconditioner = solver.reuse_preconditioner;
   StructureSettings& structure = scene.structure.settings;
   structure.theta = t.theta;
   structure.scatter = solver.scatter;
+  structure.newton.reuse_preconditioner = solver.reuse_preconditioner;
+  scene.fsi.reuse_preconditioner = solver.reuse_preconditioner;
   scene.fsi.mesh_motion.scatter = solver.scatter;
   scene.growth.settings.mesh_motion.scatter = solver.scatter;
 }

@@ -46,6 +46,9 @@ struct SolverSpec {
   double linear_rel_tol = 1e-8;
   int linear_max_iterations = 500;
   int linear_restart = 50;
+  // Every field's and the coupling's Newton keeps its assembled preconditioner while it serves
+  // (NewtonOptions::reuse_preconditioner, PreconditionerReuse).
+  bool reuse_preconditioner = NewtonOptions{}.reuse_preconditioner;
   Scatter scatter = Scatter::Colored;
 };
 

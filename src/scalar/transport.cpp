@@ -103,7 +103,7 @@ void TransportField::set_convective_velocity(const std::vector<Point>& c) {
       has_convection_ = has_convection_ || c[n][d] != 0.0;
     }
   Kokkos::deep_copy(aux_, h);
-  preconditioner_current_ = false;
+  reuse_.invalidate();
 }
 
 void TransportField::set_material_velocity(const std::vector<Point>& w) {
@@ -114,7 +114,7 @@ void TransportField::set_material_velocity(const std::vector<Point>& w) {
   for (int n = 0; n < mesh_.n_nodes(); ++n)
     for (int d = 0; d < 3; ++d) h(n, TransportPhysics::aux_material_velocity + d) = w[n][d];
   Kokkos::deep_copy(aux_, h);
-  preconditioner_current_ = false;
+  reuse_.invalidate();
 }
 
 void TransportField::set_source(const SpaceTimeFunction& s) { source_ = s; }
@@ -133,7 +133,7 @@ void TransportField::update_coordinates(const Mesh& mesh) {
   copy_coordinates_to_device(mesh_, dmesh_.x);
   volume_weights_ = to_device_vector(
       nodal_integrals(mesh_, dmesh_, all_elements_, UnitVolumeIntegrand{}, phi_), "biofsi::vol");
-  preconditioner_current_ = false;
+  reuse_.invalidate();
 }
 
 std::vector<double> TransportField::solution_host() const { return to_host_vector(phi_); }
@@ -225,8 +225,10 @@ double TransportField::storage_roundoff(double inv_dt) const {
   return 100 * std::numeric_limits<double>::epsilon() * std::sqrt(s) * inv_dt;
 }
 
-NewtonResult TransportField::advance(const std::string& label, double abs_floor) {
+NewtonResult TransportField::advance(const std::string& label, double abs_floor,
+                                     bool fresh_preconditioner) {
   NewtonOptions options = settings_.newton;
+  options.reuse_preconditioner = options.reuse_preconditioner && !fresh_preconditioner;
   options.abs_tol = std::max(options.abs_tol, abs_floor);
   NewtonSystem sys =
       timed_newton_system([this](ConstVector u, Vector r) { residual(u, r); },
@@ -236,11 +238,8 @@ NewtonResult TransportField::advance(const std::string& label, double abs_floor)
                           },
                           [this](ConstVector du, Vector y) { apply_linearised(du, y); },
                           stats_.seconds_residual, stats_.seconds_tangent);
-  sys.setup_preconditioner = [this](ConstVector u) {
-    if (preconditioner_current_ && !settings_.rebuild_preconditioner_each_iteration) return;
-    setup_preconditioner(u);
-    preconditioner_current_ = true;
-  };
+  sys.setup_preconditioner = [this](ConstVector u) { setup_preconditioner(u); };
+  sys.reuse = &reuse_;
   sys.precondition = [this](ConstVector r, Vector z) { amg_.apply(r, z); };
   sys.symmetric = !has_convection_;
   NewtonResult result;
@@ -266,22 +265,10 @@ NewtonResult TransportField::step_once(double dt, double theta, const std::strin
   update_face_data(time_ + theta * dt);
   update_source(time_ + theta * dt);
   impose_dirichlet(time_ + dt);
-  // The matrix depends on dt, the mesh and the velocity (which reset preconditioner_current_)
-  // and, through Monod's derivative, on phi, which changes little from one step to the next.
-  if (dt != preconditioner_dt_ || !settings_.reuse_preconditioner_across_steps ||
-      fresh_preconditioner)
-    preconditioner_current_ = false;
-  preconditioner_dt_ = dt;
-  const bool rebuild = settings_.rebuild_preconditioner_each_iteration;
-  settings_.rebuild_preconditioner_each_iteration = rebuild || fresh_preconditioner;
-  NewtonResult r;
-  try {
-    r = advance(label, storage_roundoff(1.0 / dt));
-  } catch (...) {
-    settings_.rebuild_preconditioner_each_iteration = rebuild;
-    throw;
-  }
-  settings_.rebuild_preconditioner_each_iteration = rebuild;
+  // The matrix depends on dt and theta, the mesh and the velocity (which invalidate reuse_) and,
+  // through Monod's derivative, on phi, which changes little from one step to the next.
+  reuse_.require({dt, theta});
+  const NewtonResult r = advance(label, storage_roundoff(1.0 / dt), fresh_preconditioner);
   time_ += dt;
   return r;
 }
@@ -316,9 +303,9 @@ NewtonResult TransportField::steady_newton(const std::string& label) {
   update_face_data(time_);
   update_source(time_);
   impose_dirichlet(time_);
-  preconditioner_current_ = false;
-  preconditioner_dt_ = 0;
-  return advance(label, 0.0);
+  reuse_.require({0.0, 1.0});
+  reuse_.invalidate();
+  return advance(label, 0.0, false);
 }
 
 NewtonResult TransportField::solve_steady(const std::string& label) {

@@ -40,12 +40,6 @@ struct TransportSettings {
   Scatter scatter = Scatter::Colored;
   NewtonOptions newton;
   AmgOptions amg;
-  // Keep the AMG hierarchy over time steps while dt, mesh and velocity stay the same (the
-  // Monod derivative is then the only change, and a slightly stale preconditioner costs a few
-  // Krylov iterations instead of an assembly and an AMG set-up per step).
-  bool reuse_preconditioner_across_steps = true;
-  // Rebuild the AMG hierarchy at every Newton iteration (overrides the reuse above).
-  bool rebuild_preconditioner_each_iteration = false;
   // A time step whose Newton solve fails is retried as 2, 4, ... 2^max_step_cuts sub-steps.
   int max_step_cuts = 8;
   // A steady solve whose Newton fails falls back to pseudo-transient continuation with at most
@@ -101,6 +95,9 @@ class TransportField {
   void set_time(double t) { time_ = t; }
   ConstVector solution() const { return phi_; }
   std::vector<double> solution_host() const;
+  // The next Newton iteration sets the preconditioner up afresh, whatever its age (a checkpoint:
+  // a run continued from it starts that way).
+  void invalidate_preconditioner() { reuse_.invalidate(); }
   // Integral of phi over the blocks (all when block < 0).
   double integral(int block = -1) const;
   // Total consumption rate int R(phi) dV over all blocks, at the current solution.
@@ -128,7 +125,8 @@ class TransportField {
     FaceOperator<TransportBoundaryPhysics> op;
   };
 
-  NewtonResult advance(const std::string& label, double abs_floor);
+  // fresh_preconditioner: set the AMG hierarchy up at every Newton iteration.
+  NewtonResult advance(const std::string& label, double abs_floor, bool fresh_preconditioner);
   NewtonResult step_once(double dt, double theta, const std::string& label,
                          bool fresh_preconditioner);
   NewtonResult steady_newton(const std::string& label);
@@ -159,8 +157,11 @@ class TransportField {
   CsrMatrix matrix_;
   BoomerAmg amg_;
   bool has_convection_ = false;
-  bool preconditioner_current_ = false;
-  double preconditioner_dt_ = 0;  // dt the current preconditioner was built for
+  // The AMG hierarchy is kept over Newton iterations and time steps (newton.reuse_preconditioner)
+  // while dt, the mesh and the velocity stay the same: the Monod derivative is then the only
+  // change, and a slightly stale preconditioner costs a few Krylov iterations instead of an
+  // assembly and an AMG set-up per step.
+  PreconditionerReuse reuse_;
   double time_ = 0;
   TransportStats stats_;
 };

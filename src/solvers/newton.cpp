@@ -226,7 +226,63 @@ Accepted block_merit(const NewtonSystem& system, const NewtonOptions& opt, const
   return a;
 }
 
+// One linear solve J du = -r from du = 0 at the Krylov options' tolerance; with
+// NewtonOptions::scale_blocks, of the system scaled block by block to unit residual norm.
+KrylovResult solve_linear(const NewtonSystem& system, const NewtonOptions& opt,
+                          const KrylovOptions& kopt, const Blocks& blocks,
+                          const std::vector<Real>& scale, ConstVector u, Workspace& w) {
+  fill(w.du, 0.0);
+  if (!opt.scale_blocks) {
+    axpby(-1.0, w.r, 0.0, w.rhs);
+    const ApplyFn jacobian = [&](ConstVector x, Vector y) { system.tangent(u, x, y); };
+    return system.symmetric ? cg(jacobian, system.precondition, w.rhs, w.du, kopt)
+                            : fgmres(jacobian, system.precondition, w.rhs, w.du, kopt);
+  }
+  // D J du = -D r with D = diag(1 / scale) per block, preconditioned by P D^-1.
+  if (w.work.extent(0) == 0) w.work = make_vector("biofsi::newton::work", w.r.extent(0));
+  copy(w.r, w.rhs);
+  divide_blocks(blocks, scale, w.rhs);
+  biofsi::scale(-1.0, w.rhs);
+  std::vector<Real> inverse(scale.size());
+  for (size_t i = 0; i < scale.size(); ++i) inverse[i] = 1 / scale[i];
+  const ApplyFn jacobian = [&](ConstVector x, Vector y) {
+    system.tangent(u, x, y);
+    divide_blocks(blocks, scale, y);
+  };
+  // P approximates J^-1, so P D^-1 approximates (D J)^-1; without P, none.
+  ApplyFn precondition;
+  if (system.precondition)
+    precondition = [&](ConstVector x, Vector z) {
+      copy(x, w.work);
+      divide_blocks(blocks, inverse, w.work);
+      system.precondition(w.work, z);
+    };
+  return system.symmetric ? cg(jacobian, precondition, w.rhs, w.du, kopt)
+                          : fgmres(jacobian, precondition, w.rhs, w.du, kopt);
+}
+
 }  // namespace
+
+void PreconditionerReuse::require(std::vector<Real> coefficients) {
+  coefficients_ = std::move(coefficients);
+}
+
+bool PreconditionerReuse::still_serves(int krylov_limit) const {
+  if (!built_ || coefficients_ != built_with_) return false;
+  return baseline_ < 0 || last_ <= std::min(baseline_ * 3 / 2 + 3, krylov_limit / 4);
+}
+
+void PreconditionerReuse::record_setup() {
+  built_ = true;
+  built_with_ = coefficients_;
+  baseline_ = -1;
+  ++setups_;
+}
+
+void PreconditionerReuse::record_solve(int krylov_iterations) {
+  last_ = krylov_iterations;
+  if (baseline_ < 0) baseline_ = krylov_iterations;
+}
 
 NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOptions& opt) {
   NewtonResult res;
@@ -284,39 +340,32 @@ NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOpti
     eta = forcing_term(opt, res.iterations, ratio, eta, opt.forcing_floor_factor * needed);
 
     if (system.linearise) system.linearise(u);
-    if (system.setup_preconditioner) system.setup_preconditioner(u);
     KrylovOptions kopt = opt.krylov;
     kopt.rel_tol = eta;
-    fill(w.du, 0.0);
-    KrylovResult lin;
-    if (opt.scale_blocks) {
-      // D J du = -D r with D = diag(1 / scale) per block, preconditioned by P D^-1.
-      if (w.work.extent(0) == 0) w.work = make_vector("biofsi::newton::work", n);
-      copy(w.r, w.rhs);
-      divide_blocks(blocks, it.scale, w.rhs);
-      scale(-1.0, w.rhs);
-      std::vector<Real> inverse(nb);
-      for (size_t i = 0; i < nb; ++i) inverse[i] = 1 / it.scale[i];
-      const ApplyFn jacobian = [&](ConstVector x, Vector y) {
-        system.tangent(u, x, y);
-        divide_blocks(blocks, it.scale, y);
-      };
-      // P approximates J^-1, so P D^-1 approximates (D J)^-1; without P, none.
-      ApplyFn precondition;
-      if (system.precondition)
-        precondition = [&](ConstVector x, Vector z) {
-          copy(x, w.work);
-          divide_blocks(blocks, inverse, w.work);
-          system.precondition(w.work, z);
-        };
-      lin = system.symmetric ? cg(jacobian, precondition, w.rhs, w.du, kopt)
-                             : fgmres(jacobian, precondition, w.rhs, w.du, kopt);
-    } else {
-      axpby(-1.0, w.r, 0.0, w.rhs);
-      const ApplyFn jacobian = [&](ConstVector x, Vector y) { system.tangent(u, x, y); };
-      lin = system.symmetric ? cg(jacobian, system.precondition, w.rhs, w.du, kopt)
-                             : fgmres(jacobian, system.precondition, w.rhs, w.du, kopt);
+    const bool reuse = opt.reuse_preconditioner && system.reuse && system.setup_preconditioner;
+    const auto set_up = [&] {
+      if (!system.setup_preconditioner) return;
+      system.setup_preconditioner(u);
+      if (system.reuse) system.reuse->record_setup();
+    };
+    const bool reused = reuse && system.reuse->still_serves(kopt.max_iterations);
+    if (reused)
+      system.reuse->record_reuse();
+    else
+      set_up();
+    // An aged preconditioner gets a quarter of the Krylov limit: one that has gone stale (the
+    // state moved far since its set-up) stalls, and the solve is repeated with a fresh one.
+    KrylovOptions aged = kopt;
+    aged.max_iterations = std::max(1, kopt.max_iterations / 4);
+    KrylovResult lin = solve_linear(system, opt, reused ? aged : kopt, blocks, it.scale, u, w);
+    int spent = 0;
+    if (reused && !lin.converged) {
+      spent = lin.iterations;
+      set_up();
+      lin = solve_linear(system, opt, kopt, blocks, it.scale, u, w);
     }
+    if (reuse) system.reuse->record_solve(lin.iterations);
+    lin.iterations += spent;
     res.krylov_iterations += lin.iterations;
     res.krylov_history.push_back(lin.iterations);
     if (lin.reason == "NaN" || !std::isfinite(lin.final_residual) || !all_finite(w.du)) {

@@ -1,6 +1,7 @@
 // src/solvers: Krylov methods on Kokkos Views, hypre BoomerAMG on an assembled matrix, the one
 // Newton method of every field and of the FSI (inexact forcing, pluggable line search, block
-// norms, round-off floors, admissible states) and the time-stepping helpers (step cutting,
+// norms, round-off floors, admissible states, when to set the preconditioner up) and the
+// time-stepping helpers (step cutting,
 // pseudo-transient continuation), all field-independent.
 // What it may include: kernels/core, hypre, MPI. Fields (src/scalar, ...) and the driver depend on
 // it; it depends on no field.
@@ -178,6 +179,35 @@ class SolveError : public std::runtime_error {
   std::string field_, step_, why_;
 };
 
+// A field's assembled preconditioner kept across Newton iterations, Newton solves and time steps
+// while it still serves (NewtonOptions::reuse_preconditioner). The Jacobian action stays exact
+// (matrix-free), so only the Krylov iterations can change: the preconditioner is set up again when
+// a linear solve needs more than 1.5 times (plus 3) the Krylov iterations of the first solve after
+// the last set-up, or more than a quarter of the Krylov limit, when a solve with it does not
+// converge within a quarter of the limit (that solve is then repeated with a fresh one), and when
+// the coefficients it was built with change. The field owns one per preconditioner and says what
+// else makes it stale.
+class PreconditionerReuse {
+ public:
+  // Coefficients the assembled matrix depends on besides the state (1/dt, theta, the interface's
+  // velocity factor): a change forces the next set-up.
+  void require(std::vector<Real> coefficients);
+  // Something the count cannot see made it stale (the field's own set-up was replaced, a step was
+  // restored after a failure): the next Newton iteration sets it up.
+  void invalidate() { built_ = false; }
+  bool still_serves(int krylov_limit) const;
+  void record_setup();
+  void record_reuse() { ++reuses_; }
+  void record_solve(int krylov_iterations);
+  int setups() const { return setups_; }
+  int reuses() const { return reuses_; }
+
+ private:
+  bool built_ = false;
+  std::vector<Real> coefficients_, built_with_;
+  int baseline_ = -1, last_ = 0, setups_ = 0, reuses_ = 0;
+};
+
 // What Newton needs from a field. Residuals include constraints: constrained rows are zero once the
 // iterate satisfies them, and tangent() acts as identity on constrained dofs.
 struct NewtonSystem {
@@ -191,6 +221,9 @@ struct NewtonSystem {
   std::function<void(ConstVector u)> setup_preconditioner;
   ApplyFn precondition;    // may be empty
   bool symmetric = false;  // CG if true, FGMRES otherwise
+  // The preconditioner's age; with NewtonOptions::reuse_preconditioner it decides whether
+  // setup_preconditioner runs (may be null: set up at every Newton iteration).
+  PreconditionerReuse* reuse = nullptr;
 
   // Optional pieces; left empty, Newton measures the whole residual with one norm.
   // Blocks [first, last) of the unknowns whose residuals are measured, and converge, separately
@@ -246,6 +279,9 @@ struct NewtonOptions {
   // `floor_includes_roundoff`, the tolerance there includes the round-off floors.
   Real forcing_floor_factor = 0.5;
   bool floor_includes_roundoff = false;
+  // Keep the assembled preconditioner while it serves (PreconditionerReuse; needs
+  // NewtonSystem::reuse), instead of setting it up at every Newton iteration.
+  bool reuse_preconditioner = true;
 };
 
 struct NewtonResult {

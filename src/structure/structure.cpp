@@ -329,6 +329,9 @@ void StructureField::setup_amg() {
   ScopedTimer t(stats_.seconds_amg_setup);
   amg_->setup(matrix_);
   ++stats_.amg_setups;
+  // The matrix may be the coupled problem's condensed block: only this field's Newton, through
+  // record_setup, knows that the hierarchy is its own.
+  reuse_.invalidate();
 }
 
 void StructureField::precondition(ConstVector r, Vector z) const { amg_->apply(r, z); }
@@ -453,6 +456,7 @@ void StructureField::predict_dirichlet(const std::string& label) {
   scale(-1.0, rhs);
   zero_constrained(fixed_dofs_, rhs);
   setup_preconditioner(u_);
+  reuse_.record_setup();
   KrylovOptions k = settings_.newton.krylov;
   k.rel_tol = 1e-6;  // a predictor: Newton corrects what is left
   const ApplyFn apply = [this](ConstVector x, Vector y) { apply_tangent(u_, x, y); };
@@ -497,6 +501,8 @@ double StructureField::roundoff_floor() const {
 
 NewtonResult StructureField::step_once(double dt, const std::string& label) {
   set_step_data(dt);
+  // The matrix's inertia term scales with 1/dt^2 and theta.
+  reuse_.require({settings_.quasi_static ? 0.0 : dt, settings_.theta});
   // Predictor: constant velocity (dynamics) or no increment (quasi-static), then the prescribed
   // increments of the constrained dofs.
   if (settings_.quasi_static)
@@ -511,24 +517,13 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
   // (measured on Cook's membrane and a soft cantilever).
   NewtonOptions options = settings_.newton;
   options.line_search = LineSearch::EnergyRegulaFalsi;
-  stats_.last_step_krylov.clear();
   NewtonSystem sys = timed_newton_system(
       [this](ConstVector u, Vector r) { residual(u, r); }, [this](ConstVector u) { linearise(u); },
       [this](ConstVector du, Vector y) { apply_linearised(du, y); }, stats_.seconds_residual,
       stats_.seconds_tangent);
-  // The preconditioner is rebuilt at every Newton iteration: the tangent of a finite-strain
-  // problem changes with the state, and a stale AMG hierarchy costs more Krylov iterations than its
-  // set-up. Counting its applications between set-ups gives the Krylov iterations per Newton
-  // iteration (each Krylov iteration applies it once; CG and FGMRES apply it once more at start
-  // or restart, which the count includes).
-  sys.setup_preconditioner = [this](ConstVector u) {
-    setup_preconditioner(u);
-    stats_.last_step_krylov.push_back(0);
-  };
-  sys.precondition = [this](ConstVector r, Vector z) {
-    amg_->apply(r, z);
-    if (!stats_.last_step_krylov.empty()) ++stats_.last_step_krylov.back();
-  };
+  sys.setup_preconditioner = [this](ConstVector u) { setup_preconditioner(u); };
+  sys.precondition = [this](ConstVector r, Vector z) { amg_->apply(r, z); };
+  sys.reuse = &reuse_;
   sys.symmetric = settings_.use_cg;
   sys.roundoff_floors = [this](ConstVector) { return std::vector<Real>{roundoff_floor()}; };
   NewtonResult result;
@@ -538,7 +533,9 @@ NewtonResult StructureField::step_once(double dt, const std::string& label) {
   }
   stats_.newton_iterations += result.iterations;
   stats_.krylov_iterations += result.krylov_iterations;
+  stats_.last_step_krylov = result.krylov_history;
   if (!result.converged || !all_finite(u_)) {
+    reuse_.invalidate();
     throw SolveError("structure", label, newton_failure(result));
   }
   end_step(dt);

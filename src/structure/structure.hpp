@@ -151,6 +151,9 @@ class StructureField {
   // AMG on the current matrix() (after assemble(u, true) and any change the coupling made).
   void setup_amg();
   void precondition(ConstVector r, Vector z) const;
+  // The next Newton iteration sets the preconditioner up afresh, whatever its age (a checkpoint:
+  // a run continued from it starts that way).
+  void invalidate_preconditioner() { reuse_.invalidate(); }
   Kokkos::View<const char*, MemSpace> constrained_mask() const { return fixed_; }
   // Verification access: residual and tangent of the step being set up by prepare_step (the
   // unknown is the increment u = d_{n+1} - d_n), the assembled tangent (constrained rows and
@@ -198,6 +201,7 @@ class StructureField {
   Vector scratch_;
   CsrMatrix matrix_;
   std::unique_ptr<BoomerAmg> amg_;
+  PreconditionerReuse reuse_;  // of amg_ in this field's own Newton solves
   double time_ = 0, step_dt_ = 0;
   double element_size_ = 0;  // a typical element edge (round-off floor of Neo-Hooke's residual)
   StructureStats stats_;

@@ -269,10 +269,10 @@ TEST(GrowthCaseCTransient, FromTheSteadyStateItsShearAndFluxAreTheQuasiSteadyOne
   EXPECT_NEAR(j_t, j_q, 1e-3 * j_q);
 }
 
-// fsi.reuse_preconditioner: the transient coupled steps keep their assembled preconditioner while
-// it serves. The Jacobian action is exact either way, so the run converges to the same states (to
-// the Newton tolerance) with far fewer set-ups. Coarse case (c), 10 inner steps before and after
-// one growth step: the interface motion equal in the 6 digits the summary prints (bound 1e-6
+// solver.reuse_preconditioner: the transient coupled steps keep their assembled preconditioner
+// while it serves. The Jacobian action is exact either way, so the run converges to the same states
+// (to the Newton tolerance) with far fewer set-ups. Coarse case (c), 10 inner steps before and
+// after one growth step: the interface motion equal in the 6 digits the summary prints (bound 1e-6
 // relative); 7 set-ups and 39 reuses, where without reuse every Newton step sets up (bound: 4
 // reuses per set-up).
 TEST(GrowthCaseCTransient, ReusingThePreconditionerGivesTheSameRun) {
@@ -281,7 +281,7 @@ TEST(GrowthCaseCTransient, ReusingThePreconditionerGivesTheSameRun) {
     const Captured r =
         run("cases/coroneo2013/c_shear.yaml", dir,
             coarse({"time.steps=10", "growth.steps=1",
-                    std::string("fsi.reuse_preconditioner=") + (reuse ? "true" : "false")}));
+                    std::string("solver.reuse_preconditioner=") + (reuse ? "true" : "false")}));
     EXPECT_EQ(r.rc, 0) << r.err;
     return r.out;
   };

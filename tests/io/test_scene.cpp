@@ -58,6 +58,7 @@ solver:
   newton: {rel_tol: 1e-9, abs_tol: 1e-12, max_iterations: 30}
   linear: {rel_tol: 1e-7, max_iterations: 400, restart: 40}
   scatter: atomic
+  reuse_preconditioner: false
 output:
   directory: results
   every: 2
@@ -174,6 +175,9 @@ TEST(Scene, ParsesEveryValueOfAFullScene) {
   EXPECT_EQ(s.solver.linear_max_iterations, 400);
   EXPECT_EQ(s.solver.linear_restart, 40);
   EXPECT_EQ(s.solver.scatter, Scatter::Atomic);
+  EXPECT_FALSE(s.solver.reuse_preconditioner);
+  // One key for every field's Newton and the coupling's.
+  EXPECT_FALSE(s.scalar.settings.newton.reuse_preconditioner);
 
   EXPECT_EQ(s.output.directory, "results");
   EXPECT_EQ(s.output.every, 2);
@@ -201,6 +205,8 @@ TEST(Scene, AppliesDefaultsWhenOptionalKeysAreAbsent) {
   EXPECT_EQ(s.solver.linear_max_iterations, d.solver.linear_max_iterations);
   EXPECT_EQ(s.solver.linear_restart, d.solver.linear_restart);
   EXPECT_EQ(s.solver.scatter, Scatter::Colored);
+  EXPECT_TRUE(s.solver.reuse_preconditioner);
+  EXPECT_TRUE(s.scalar.settings.newton.reuse_preconditioner);
   EXPECT_EQ(s.output.directory, d.output.directory);
   EXPECT_EQ(s.output.every, 1);
   EXPECT_TRUE(s.output.flux_boundaries.empty());
@@ -358,6 +364,10 @@ TEST(Scene, RejectsAMonodRateWithoutHalfSaturation) {
 TEST(Scene, RejectsAnUnknownScatterPolicy) {
   const std::string text = replaced(kFull, "scatter: atomic", "scatter: greedy");
   expect_error(text, line_of(text, "greedy"), "solver.scatter", "greedy", "one of colored, atomic");
+  const std::string reuse =
+      replaced(kFull, "reuse_preconditioner: false", "reuse_preconditioner: 1");
+  expect_error(reuse, line_of(reuse, "reuse_preconditioner"), "solver.reuse_preconditioner", "1",
+               "true or false");
 }
 
 TEST(Scene, RejectsDuplicateKeys) {
@@ -717,7 +727,6 @@ const std::string kFsi = R"yaml(fsi:
   sliding_walls: [left, right]
   rel_tol: 1.0e-7
   max_iterations: 12
-  reuse_preconditioner: true
 )yaml";
 
 std::string with_structure(const std::string& scene) {
@@ -746,7 +755,10 @@ TEST(Scene, ReadsTheStructureFieldAndTheCoupling) {
   EXPECT_EQ(m.density, 1e-3);
   EXPECT_EQ(s.fsi.interface, "biofilm_fluid");
   EXPECT_EQ(s.fsi.shape_derivatives, ShapeDerivatives::None);
-  EXPECT_TRUE(s.fsi.reuse_preconditioner);
+  // solver.reuse_preconditioner (kFull: false) reaches every field and the coupling.
+  EXPECT_FALSE(s.fsi.reuse_preconditioner);
+  EXPECT_FALSE(s.structure.settings.newton.reuse_preconditioner);
+  EXPECT_FALSE(s.fluid.settings.newton_options.reuse_preconditioner);
   // The fluid's inflow (left) and outflow (right, and bottom's pressure) join the fixed walls.
   EXPECT_EQ(s.fsi.mesh_motion.fixed_walls,
             (std::vector<std::string>{"bottom", "top", "left", "right"}));
@@ -785,9 +797,6 @@ TEST(Scene, RejectsInconsistentCoupledScenes) {
                                               "{boundary: biofilm_fluid, type: slip}");
   expect_error(slip_interface, line_of(slip_interface, "interface: biofilm_fluid"), "fsi.interface",
                "biofilm_fluid", "a fields.fluid boundary condition");
-  expect_error(replaced(good, "reuse_preconditioner: true", "reuse_preconditioner: 1"),
-               line_of(good, "reuse_preconditioner"), "fsi.reuse_preconditioner", "1",
-               "true or false");
   expect_error(replaced(good, "shape_derivatives: none", "shape_derivatives: exact"),
                line_of(good, "shape_derivatives"), "fsi.shape_derivatives", "exact", "one of");
   expect_error(replaced(good, "rel_tol: 1.0e-7", "rel_tol: 2"), line_of(good, "rel_tol: 1.0e-7"),

@@ -2,9 +2,10 @@
 // Krylov work, the line search globalising a problem on which plain Newton diverges, and failures
 // (NaN, no linear progress, iteration limit) reported through the result instead of exceptions;
 // the optional pieces: per-block norms and tolerances, admissible states, the energy line search
-// and round-off floors.
+// and round-off floors; keeping the preconditioner while it serves (PreconditionerReuse).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -420,4 +421,134 @@ TEST(Newton, StopsAtTheRoundoffFloor) {
   EXPECT_TRUE(with.converged) << with.reason;
   EXPECT_LE(with.residual_history.back(), 1e-6 * r0);
   for (double x : to_host(v)) EXPECT_NEAR(x, std::sqrt(2.0), 1e-5);
+}
+
+namespace {
+
+void multiply(ConstVector d, Vector x) {  // x *= d entry by entry
+  Kokkos::parallel_for(
+      "test::multiply", Policy(0, x.extent(0)), KOKKOS_LAMBDA(int i) { x(i) *= d(i); });
+}
+
+void reciprocal(Vector x) {
+  Kokkos::parallel_for(
+      "test::reciprocal", Policy(0, x.extent(0)), KOKKOS_LAMBDA(int i) { x(i) = 1 / x(i); });
+}
+
+}  // namespace
+
+// The policy alone: the preconditioner serves while the last solve needed at most 1.5 times the
+// Krylov iterations of the first solve after its set-up, plus 3, and at most a quarter of the
+// limit; a change of its coefficients or an invalidation retires it.
+TEST(PreconditionerReuse, ServesWhileTheKrylovCountStaysNearTheFirstSolvesAfterItsSetUp) {
+  PreconditionerReuse reuse;
+  reuse.require({0.5, 1.0});
+  EXPECT_FALSE(reuse.still_serves(400));  // never set up
+  reuse.record_setup();
+  EXPECT_TRUE(reuse.still_serves(400));
+  reuse.record_solve(10);  // the baseline
+  reuse.record_solve(18);  // 1.5 * 10 + 3
+  EXPECT_TRUE(reuse.still_serves(400));
+  reuse.record_solve(19);
+  EXPECT_FALSE(reuse.still_serves(400));
+  reuse.record_solve(12);
+  EXPECT_TRUE(reuse.still_serves(400));
+  EXPECT_FALSE(reuse.still_serves(40));  // 12 > 40 / 4
+  reuse.require({0.25, 1.0});            // a new time step size
+  EXPECT_FALSE(reuse.still_serves(400));
+  reuse.record_setup();
+  EXPECT_TRUE(reuse.still_serves(400));
+  reuse.invalidate();
+  EXPECT_FALSE(reuse.still_serves(400));
+  EXPECT_EQ(reuse.setups(), 2);
+}
+
+// Through Newton: on A u + c u^3 = f the AMG hierarchy of the first Jacobian serves the later
+// ones (the cubic term changes the diagonal only), so the solve sets it up fewer times than it
+// takes Newton steps and reaches the same solution (the bound of
+// ConvergesQuadraticallyWithTightForcing: the error is at most 6 times the final residual).
+TEST(Newton, AReusedPreconditionerSavesSetUpsAndReachesTheSameSolution) {
+  CubicProblem fresh_problem(12, 2.0), reused_problem(12, 2.0);
+  int fresh_setups = 0, reused_setups = 0;
+  NewtonSystem fresh = fresh_problem.system(), reused = reused_problem.system();
+  auto counted = [](NewtonSystem& s, int& count) {
+    s.setup_preconditioner = [setup = s.setup_preconditioner, &count](ConstVector u) {
+      setup(u);
+      ++count;
+    };
+  };
+  counted(fresh, fresh_setups);
+  counted(reused, reused_setups);
+  PreconditionerReuse age;
+  reused.reuse = &age;
+  Vector u1("u1", fresh_problem.ah.n_rows), u2("u2", reused_problem.ah.n_rows);
+  const NewtonResult r_fresh = newton_solve(fresh, u1, NewtonOptions{});
+  const NewtonResult r_reused = newton_solve(reused, u2, NewtonOptions{});
+  ASSERT_TRUE(r_fresh.converged) << r_fresh.reason;
+  ASSERT_TRUE(r_reused.converged) << r_reused.reason;
+  std::printf(
+      "[ measure  ] Newton cubic 12^3: set up every step %d Newton / %d Krylov / %d set-ups, "
+      "reused %d / %d / %d (%d reuses)\n",
+      r_fresh.iterations, r_fresh.krylov_iterations, fresh_setups, r_reused.iterations,
+      r_reused.krylov_iterations, reused_setups, age.reuses());
+  EXPECT_EQ(fresh_setups, r_fresh.iterations);
+  EXPECT_LT(reused_setups, r_reused.iterations);
+  EXPECT_EQ(age.setups(), reused_setups);
+  EXPECT_EQ(age.reuses() + age.setups(), r_reused.iterations);
+  EXPECT_LE(distance(to_host(u2), reused_problem.u_exact), 6 * r_reused.residual_history.back());
+  EXPECT_LE(distance(to_host(u1), fresh_problem.u_exact), 6 * r_fresh.residual_history.back());
+}
+
+// A preconditioner gone stale between two solves (the operator changed in a way its coefficients
+// do not show) stalls: the reused solve stops at a quarter of the Krylov limit and is repeated with
+// a fresh one in the same Newton step. K u = f with K diagonal over six decades, preconditioned by
+// the inverse diagonal taken at set-up: exact (1 CG iteration) for the K it was built for, and
+// hopeless for the reversed K.
+TEST(Newton, AStalePreconditionerIsSetUpAgainWithinTheNewtonStep) {
+  const int n = 200;
+  std::vector<double> k(n);
+  for (int i = 0; i < n; ++i) k[i] = std::pow(10.0, 6.0 * i / (n - 1));
+  Vector stiffness = to_device(k, "k"), f("f", n), inverse("inverse", n);
+  fill(f, 1.0);
+  NewtonSystem s;
+  s.residual = [&](ConstVector u, Vector r) {
+    copy(u, r);
+    multiply(stiffness, r);
+    axpy(-1.0, f, r);
+  };
+  s.tangent = [&](ConstVector, ConstVector du, Vector y) {
+    copy(du, y);
+    multiply(stiffness, y);
+  };
+  int setups = 0;
+  s.setup_preconditioner = [&](ConstVector) {
+    copy(stiffness, inverse);
+    reciprocal(inverse);
+    ++setups;
+  };
+  s.precondition = [&](ConstVector r, Vector z) {
+    copy(r, z);
+    multiply(inverse, z);
+  };
+  s.symmetric = true;
+  PreconditionerReuse age;
+  s.reuse = &age;
+  NewtonOptions opt;
+  opt.krylov.max_iterations = 40;
+  Vector u("u", n);
+  NewtonResult r = newton_solve(s, u, opt);
+  ASSERT_TRUE(r.converged) << r.reason;
+  EXPECT_EQ(setups, 1);
+  std::reverse(k.begin(), k.end());
+  stiffness = to_device(k, "k reversed");
+  fill(u, 0.0);
+  r = newton_solve(s, u, opt);
+  ASSERT_TRUE(r.converged) << r.reason;
+  ASSERT_FALSE(r.krylov_history.empty());
+  std::printf("[ measure  ] stale preconditioner: first Newton step %d CG iterations, %d set-ups\n",
+              r.krylov_history[0], setups);
+  EXPECT_EQ(setups, 2);
+  EXPECT_EQ(age.reuses(), 1);
+  // 10 with the stale one (40 / 4), then 1 with the fresh one.
+  EXPECT_EQ(r.krylov_history[0], 11);
 }
