@@ -25,7 +25,7 @@
 // the last period), not still growing.
 //
 // Measured (one thread, dt 0.01, theta 0.5, the midpoint form of kernels/fluid/pointwise.hpp):
-//   DFG 2D-2 refine 1 (6 min): c_L +-1.028 (+2.8%), St -2.45%, c_D max 3.2224 (-0.24%),
+//   DFG 2D-2 refine 1 (2 min): c_L +-1.028 (+2.8%), St -2.45%, c_D max 3.2224 (-0.24%),
 //     amplitude change 0.01%: passes.
 //   CFD3 on turek_hron_wake (refine 1's body with a finer wake: gmsh -setnumber c_side 12
 //     -setnumber g_side 1.1 -setnumber c_wake 100 -setnumber c_wall 8; to t = 5 s, 42 min): lift
