@@ -141,7 +141,6 @@ class Driver {
               if (i % scene_.output.every == 0 || i == scene_.time.steps) {
                 write(i, sim_.time(), {});
                 write_checkpoint(i, flow_checkpoint_data(i));
-                sim_.invalidate_preconditioners();
               }
             },
             first);
@@ -249,10 +248,7 @@ class Driver {
                     << ", change " << r.change << "), interface moved max "
                     << rep.max_interface_displacement << " mm, mesh "
                     << "quality " << format_range(rep.quality, sim_.mesh) << "\n";
-        if (g.checkpoint) {
-          write_checkpoint(k + 1, growth_checkpoint_data(k + 1));
-          sim_.invalidate_preconditioners();
-        }
+        if (g.checkpoint) write_checkpoint(k + 1, growth_checkpoint_data(k + 1));
       }
     } catch (const SolveError& e) {
       return failed(e, k, k * gs.dt_bio);
@@ -388,10 +384,13 @@ class Driver {
 
   using Datasets = std::vector<std::pair<std::string, std::vector<double>>>;
 
+  // A checkpoint is where a restarted run begins, with fresh preconditioners: the run that writes
+  // it sets them up afresh too, so that both take the same steps.
   void write_checkpoint(int index, const Datasets& data) {
     char name[32];
     std::snprintf(name, sizeof name, "checkpoint_%06d.h5", index);
     write_h5_datasets((out_ / name).string(), data);
+    sim_.invalidate_preconditioners();
   }
 
   static std::vector<double> flat(const std::vector<Point>& v) {

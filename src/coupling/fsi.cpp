@@ -463,7 +463,6 @@ void condense_fluid_block(const FsiProblem::Impl& m, const CsrMatrix& fluid,
 }
 
 void setup_preconditioner(FsiProblem::Impl& m, FsiStats& stats) {
-  ++stats.preconditioner_setups;
   const ConstVector xl = m.xs_lin;
   const CsrMatrix* fluid_matrix = nullptr;
   {
@@ -697,9 +696,9 @@ NewtonResult FsiProblem::solve() {
   // 10 growth steps, an aged preconditioner halved the set-ups (13 for 25 Newton steps) but
   // nearly doubled the outer Krylov iterations (256 against 147) and cost more than it saved.
   opt.reuse_preconditioner = st.reuse_preconditioner && m.inv_dt != 0;
-  const int reuses_before = m.reuse.reuses();
   NewtonResult res = newton_solve(sys, x_, opt);
-  stats_.preconditioner_reuses += m.reuse.reuses() - reuses_before;
+  stats_.preconditioner_setups = m.reuse.setups();
+  stats_.preconditioner_reuses = m.reuse.reuses();
   stats_.last_krylov = res.krylov_history;
   stats_.last_residuals.clear();
   for (const auto& n : res.block_history) stats_.last_residuals.push_back({n[0], n[1], n[2]});

@@ -364,7 +364,7 @@ NewtonResult newton_solve(const NewtonSystem& system, Vector u, const NewtonOpti
       set_up();
       lin = solve_linear(system, opt, kopt, blocks, it.scale, u, w);
     }
-    if (reuse) system.reuse->record_solve(lin.iterations);
+    if (system.reuse) system.reuse->record_solve(lin.iterations);
     lin.iterations += spent;
     res.krylov_iterations += lin.iterations;
     res.krylov_history.push_back(lin.iterations);
