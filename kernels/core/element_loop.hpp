@@ -90,6 +90,47 @@ struct TangentTag {};
 struct DiagonalTag {};
 struct AssembleTag {};
 
+// Whether a Physics declares point states: the tangent's dependence on the linearisation point
+// condensed into PointState<T> (members of type T only), with
+//   PointState<Real> point_state(const QpData&, u, grad u) const;
+//   template <class T> void tangent_at(const PointState<T>&, du, grad du, df0, df1) const;
+// and tangent() = tangent_at(point_state(...)).
+template <class Physics, class = void>
+struct HasPointState : std::false_type {};
+template <class Physics>
+struct HasPointState<Physics, std::void_t<typename Physics::template PointState<Real>>>
+    : std::true_type {};
+
+// The tangent at one point as a function of (du, grad du): tangent_at of the point state,
+// evaluated once, where the Physics declares point states; its tangent() otherwise.
+template <class Physics, int NC, bool FromState>
+struct PointTangent {
+  using QP = QpData<Physics::n_aux>;
+  const Physics& physics;
+  const QP& qp;
+  const Real (&u)[NC];
+  const Real (&gu)[NC][3];
+  KOKKOS_INLINE_FUNCTION PointTangent(const Physics& p, const QP& q, const Real (&uq)[NC],
+                                      const Real (&g)[NC][3])
+      : physics(p), qp(q), u(uq), gu(g) {}
+  KOKKOS_INLINE_FUNCTION void operator()(const Real du[NC], const Real gdu[NC][3], Real r0[NC],
+                                         Real r1[NC][3]) const {
+    physics.tangent(qp, u, gu, du, gdu, r0, r1);
+  }
+};
+template <class Physics, int NC>
+struct PointTangent<Physics, NC, true> {
+  const Physics& physics;
+  typename Physics::template PointState<Real> state;
+  KOKKOS_INLINE_FUNCTION PointTangent(const Physics& p, const QpData<Physics::n_aux>& q,
+                                      const Real (&uq)[NC], const Real (&g)[NC][3])
+      : physics(p), state(p.point_state(q, uq, g)) {}
+  KOKKOS_INLINE_FUNCTION void operator()(const Real du[NC], const Real gdu[NC][3], Real r0[NC],
+                                         Real r1[NC][3]) const {
+    physics.tangent_at(state, du, gdu, r0, r1);
+  }
+};
+
 template <class Physics, class Basis>
 struct ElementLoop {
   static constexpr int NC = Physics::n_components, NA = Physics::n_aux;
@@ -268,20 +309,54 @@ struct ElementLoop {
       }
   }
 
+  // The element matrix point by point: the tangent at a point (its state evaluated once) along
+  // every basis function, so that a Physics with point states evaluates them NQ times per
+  // element, not NQ NN NC times as column by column.
   KOKKOS_INLINE_FUNCTION void operator()(AssembleTag, int i) const {
     Gathered g;
     gather(elements(i), g);
+    constexpr int ND = NN * NC;
+    Real ke[ND][ND];  // row a NC + c, column b NC + cb
+    for (int r = 0; r < ND; ++r)
+      for (int s = 0; s < ND; ++s) ke[r][s] = 0;
+    for (int q = 0; q < NQ; ++q) {
+      Real n[NN], grad[NN][3];
+      for (int a = 0; a < NN; ++a) {
+        Real gref[3];
+        basis_at_point<Basis>(a, q, n[a], gref);
+        physical_gradient(g.geo.inv[q], gref, grad[a]);
+      }
+      Real uq[NC], gu[NC][3];
+      for (int c = 0; c < NC; ++c) {
+        uq[c] = g.uq[c][q];
+        for (int d = 0; d < 3; ++d) gu[c][d] = g.gu[c][q][d];
+      }
+      const PointTangent<Physics, NC, HasPointState<Physics>::value> tangent(physics, g.qp[q], uq,
+                                                                             gu);
+      for (int b = 0; b < NN; ++b)
+        for (int cb = 0; cb < NC; ++cb) {
+          Real du[NC], gdu[NC][3], r0[NC], r1[NC][3];
+          for (int c = 0; c < NC; ++c) {
+            du[c] = c == cb ? n[b] : 0.0;
+            for (int d = 0; d < 3; ++d) gdu[c][d] = c == cb ? grad[b][d] : 0.0;
+          }
+          tangent(du, gdu, r0, r1);
+          for (int a = 0; a < NN; ++a)
+            for (int c = 0; c < NC; ++c)
+              ke[a * NC + c][b * NC + cb] +=
+                  g.geo.wdet[q] * (n[a] * r0[c] + grad[a][0] * r1[c][0] + grad[a][1] * r1[c][1] +
+                                   grad[a][2] * r1[c][2]);
+        }
+    }
     const int* rp = matrix.row_ptr.data();
     const int* cols = matrix.col.data();
     for (int b = 0; b < NN; ++b)
       for (int cb = 0; cb < NC; ++cb) {
-        Real column[NN][NC];
-        element_column(g, b, cb, column);
         const int j = g.node[b] * NC + cb;
         for (int a = 0; a < NN; ++a)
           for (int c = 0; c < NC; ++c) {
             const int k = csr_find(rp, cols, g.node[a] * NC + c, j);
-            accumulate(atomic, &matrix.val(k), column[a][c]);
+            accumulate(atomic, &matrix.val(k), ke[a * NC + c][b * NC + cb]);
           }
       }
   }

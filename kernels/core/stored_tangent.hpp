@@ -21,9 +21,10 @@
 // symmetric or block-decoupled map (3 KiB for the structure and mesh motion). A Physics whose
 // tangent is cheap given a small per-point state can store that state and the geometry instead
 // (StoredPointStates: the fluid, 34 doubles per point instead of 256; mesh motion, 11 instead of
-// 45) and have its tangent evaluated on SIMD packs. Against either, the on-the-fly apply
-// recomputes geometry, interpolates every auxiliary field with gradients and evaluates the physics
-// at every point (bench/README.md has the measured bytes and rates).
+// 45; transport, 16 like its map, but its linearisation then evaluates SUPG's tau once per point)
+// and have its tangent evaluated on SIMD packs. Against either, the on-the-fly apply recomputes
+// geometry, interpolates every auxiliary field with gradients and evaluates the physics at every
+// point (bench/README.md has the measured bytes and rates).
 #pragma once
 
 #include <vector>
@@ -123,14 +124,6 @@ struct StoredPointStates : ElementBatches<W> {
   }
 };
 
-namespace detail {
-template <class Physics, class = void>
-struct HasPointState : std::false_type {};
-template <class Physics>
-struct HasPointState<Physics, std::void_t<typename Physics::template PointState<Real>>>
-    : std::true_type {};
-}  // namespace detail
-
 // The store type of an operator's Physics.
 template <class Physics, int W = simd_width>
 using StoredTangentOf = StoredTangent<PatternOf<Physics>, W>;
@@ -168,6 +161,9 @@ struct LineariseLoop {
         uq[c] = g.uq[c][q];
         for (int d = 0; d < 3; ++d) gu[c][d] = g.gu[c][q][d];
       }
+      // A Physics with point states evaluates its state once per point, not once per column.
+      const PointTangent<Physics, NC, HasPointState<Physics>::value> tangent(element.physics,
+                                                                             g.qp[q], uq, gu);
       // Column `col` of the local map: the input is a unit value (j = 0) or a unit reference
       // gradient along j - 1 of component cc, whose physical gradient is that row of inv.
       Real local[NM][NM];
@@ -178,7 +174,7 @@ struct LineariseLoop {
           du[c] = (c == cc && j == 0) ? 1.0 : 0.0;
           for (int d = 0; d < 3; ++d) gdu[c][d] = (c == cc && j > 0) ? inv[j - 1][d] : 0.0;
         }
-        element.physics.tangent(g.qp[q], uq, gu, du, gdu, r0, r1);
+        tangent(du, gdu, r0, r1);
         for (int c = 0; c < NC; ++c) {
           Real ref[3];
           reference_flux(inv, r1[c], ref);

@@ -126,15 +126,41 @@ struct TransportPhysics {
       f1[0][i] = l.D * (theta * gu[0][i] + (1 - theta) * g_n[i]) + l.tau * l.c[i] * f0[0];
   }
 
-  KOKKOS_INLINE_FUNCTION void tangent(const QpData<n_aux>& q, const Real u[1], const Real[1][3],
+  // What the tangent needs of the linearisation point, per point: the coefficient of du in df0
+  // (storage, Monod derivative, material motion), the convective velocity, tau and theta D. All
+  // members are T, so that a stored tangent can keep it as a row of doubles
+  // (kernels/core/stored_tangent.hpp); evaluating it once per point also keeps SUPG's tau and
+  // Monod's derivative out of the per-column work of the linearisation.
+  template <class T>
+  struct PointState {
+    T value, c[3], tau, diffusion;
+  };
+
+  KOKKOS_INLINE_FUNCTION PointState<Real> point_state(const QpData<n_aux>& q, const Real u[1],
+                                                      const Real[1][3]) const {
+    const Local l = local(q);
+    PointState<Real> s;
+    s.value = inv_dt + theta * (reaction_derivative(l, u[0]) + l.div_w);
+    for (int i = 0; i < 3; ++i) s.c[i] = l.c[i];
+    s.tau = l.tau;
+    s.diffusion = theta * l.D;
+    return s;
+  }
+
+  // The tangent at a point from its state. T is Real or a SIMD pack of points.
+  template <class T>
+  KOKKOS_INLINE_FUNCTION void tangent_at(const PointState<T>& s, const T du[1], const T gdu[1][3],
+                                         T df0[1], T df1[1][3]) const {
+    T conv = 0;
+    for (int i = 0; i < 3; ++i) conv += s.c[i] * gdu[0][i];
+    df0[0] = s.value * du[0] + theta * conv;
+    for (int i = 0; i < 3; ++i) df1[0][i] = s.diffusion * gdu[0][i] + s.tau * s.c[i] * df0[0];
+  }
+
+  KOKKOS_INLINE_FUNCTION void tangent(const QpData<n_aux>& q, const Real u[1], const Real gu[1][3],
                                       const Real du[1], const Real gdu[1][3], Real df0[1],
                                       Real df1[1][3]) const {
-    const Local l = local(q);
-    Real conv = 0;
-    for (int i = 0; i < 3; ++i) conv += l.c[i] * gdu[0][i];
-    df0[0] =
-        du[0] * inv_dt + theta * (conv + reaction_derivative(l, u[0]) * du[0] + l.div_w * du[0]);
-    for (int i = 0; i < 3; ++i) df1[0][i] = l.D * theta * gdu[0][i] + l.tau * l.c[i] * df0[0];
+    tangent_at(point_state(q, u, gu), du, gdu, df0, df1);
   }
 };
 

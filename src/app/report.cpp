@@ -137,9 +137,9 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
     << "  scene: " << sim.scene.file << "\n"
     << "  nodes " << sim.mesh.n_nodes() << ", elements " << sim.mesh.n_elements() << "\n"
     << "  scalar: " << s.steps << " solves, " << s.newton_iterations << " Newton and "
-    << s.krylov_iterations << " Krylov iterations, " << s.amg_setups << " AMG set-ups, "
-    << s.cut_steps << " time steps cut into sub-steps, " << s.pseudo_steps
-    << " pseudo-time steps\n";
+    << s.krylov_iterations << " Krylov iterations, " << s.preconditioner_setups
+    << " preconditioner set-ups, " << s.cut_steps << " time steps cut into sub-steps, "
+    << s.pseudo_steps << " pseudo-time steps\n";
   if (sim.fluid && !sim.fsi) {
     const FluidStats& f = sim.fluid->stats();
     o << "  fluid: " << f.steps << " solves, " << f.newton_iterations << " Newton and "
@@ -172,8 +172,8 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
   }
   o << "  time [s]: total " << seconds << "; scalar " << s.seconds_solve << " (residual "
     << s.seconds_residual << ", tangent " << s.seconds_tangent << ", linearisation "
-    << s.seconds_linearise << ", assembly " << s.seconds_assembly << ", AMG set-up "
-    << s.seconds_amg_setup << ")";
+    << s.seconds_linearise << ", assembly " << s.seconds_assembly << ", preconditioner set-up "
+    << s.seconds_preconditioner_setup << ")";
   if (sim.fsi) {
     const FsiStats& f = sim.fsi->stats();
     // Shape derivatives are part of the Jacobian action; the block Krylov solves are the

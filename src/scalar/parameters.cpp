@@ -67,7 +67,7 @@ ScalarSection read_scalar_section(const MapView& fields, const MeshNames& names,
   if (!node) return section;
   const Checker& c = fields.checker();
   MapView s(c, *node, fields.key("scalar"),
-            {"enabled", "initial", "velocity", "supg", "boundary_conditions"});
+            {"enabled", "initial", "velocity", "supg", "preconditioner", "boundary_conditions"});
   section.enabled = get_bool(s, "enabled", section.enabled);
   section.initial = get_expression(s, "initial", section.initial);
   if (auto v = s.get("velocity")) {
@@ -78,6 +78,10 @@ ScalarSection read_scalar_section(const MapView& fields, const MeshNames& names,
         *get_expression_vector(s, "velocity", "a list of 3 expressions (velocity components)");
   }
   section.settings.supg = get_bool(s, "supg", section.settings.supg);
+  section.settings.preconditioner =
+      get_enum(s, "preconditioner",
+               {{"amg", ScalarPreconditioner::Amg}, {"direct", ScalarPreconditioner::Direct}},
+               std::optional<ScalarPreconditioner>(section.settings.preconditioner));
   auto bcs = s.get("boundary_conditions");
   if (!bcs || bcs->IsNull()) return section;
   const std::string key = s.key("boundary_conditions");

@@ -39,8 +39,11 @@ TransportField::TransportField(const Mesh& mesh, const TransportSettings& settin
       dmesh_(to_device(mesh)),
       all_elements_(mesh.n_elements()),
       aux_("biofsi::scalar_aux", mesh.n_nodes(), TransportPhysics::n_aux),
-      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, TransportPhysics{}),
-      amg_(settings.amg) {
+      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, TransportPhysics{}) {
+  if (settings.preconditioner == ScalarPreconditioner::Direct)
+    preconditioner_ = std::make_unique<SparseLu>();
+  else
+    preconditioner_ = std::make_unique<BoomerAmg>(settings.amg);
   if (static_cast<int>(mesh.block_names.size()) > max_blocks)
     throw std::invalid_argument("scalar transport supports at most " + std::to_string(max_blocks) +
                                 " blocks");
@@ -209,9 +212,9 @@ void TransportField::setup_preconditioner(ConstVector phi) {
     for (const auto& f : faces_) f.op.assemble(phi, matrix_);
     csr_eliminate_constrained(matrix_, fixed_);
   }
-  ScopedTimer t(stats_.seconds_amg_setup);
-  amg_.setup(matrix_);
-  ++stats_.amg_setups;
+  ScopedTimer t(stats_.seconds_preconditioner_setup);
+  preconditioner_->setup(matrix_);
+  ++stats_.preconditioner_setups;
 }
 
 double TransportField::storage_roundoff(double inv_dt) const {
@@ -240,7 +243,7 @@ NewtonResult TransportField::advance(const std::string& label, double abs_floor,
                           stats_.seconds_residual, stats_.seconds_tangent);
   sys.setup_preconditioner = [this](ConstVector u) { setup_preconditioner(u); };
   sys.reuse = &reuse_;
-  sys.precondition = [this](ConstVector r, Vector z) { amg_.apply(r, z); };
+  sys.precondition = [this](ConstVector r, Vector z) { preconditioner_->apply(r, z); };
   sys.symmetric = !has_convection_;
   NewtonResult result;
   {

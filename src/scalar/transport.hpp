@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -33,12 +34,18 @@ struct ScalarBoundaryCondition {
   double coefficient = 0;
 };
 
+// The preconditioner of the Krylov solves, applied to the assembled tangent: BoomerAMG, or a
+// sparse LU (SparseLu), which makes every Krylov solve one or two iterations and pays where the
+// factors stay small (pseudo-2-D and small 3-D meshes; bench/README.md has the measurement).
+enum class ScalarPreconditioner { Amg, Direct };
+
 struct TransportSettings {
   TransportCoefficients coefficients;  // per block index
   bool supg = true;
   double theta = 0.66;
   Scatter scatter = Scatter::Colored;
   NewtonOptions newton;
+  ScalarPreconditioner preconditioner = ScalarPreconditioner::Amg;
   AmgOptions amg;
   // A time step whose Newton solve fails is retried as 2, 4, ... 2^max_step_cuts sub-steps.
   int max_step_cuts = 8;
@@ -60,11 +67,11 @@ struct BoundaryFlux {
 };
 
 struct TransportStats {
-  int steps = 0, newton_iterations = 0, krylov_iterations = 0, amg_setups = 0;
+  int steps = 0, newton_iterations = 0, krylov_iterations = 0, preconditioner_setups = 0;
   int cut_steps = 0;     // time steps that needed sub-steps
   int pseudo_steps = 0;  // pseudo-time steps of steady solves that needed continuation
   double seconds_residual = 0, seconds_tangent = 0, seconds_linearise = 0, seconds_assembly = 0,
-         seconds_amg_setup = 0, seconds_solve = 0;
+         seconds_preconditioner_setup = 0, seconds_solve = 0;
 };
 
 class TransportField {
@@ -155,12 +162,12 @@ class TransportField {
   Vector scratch_;  // constrained-zeroed direction in apply_tangent
   Vector volume_weights_;
   CsrMatrix matrix_;
-  BoomerAmg amg_;
+  std::unique_ptr<AssembledPreconditioner> preconditioner_;
   bool has_convection_ = false;
-  // The AMG hierarchy is kept over Newton iterations and time steps (newton.reuse_preconditioner)
+  // The preconditioner is kept over Newton iterations and time steps (newton.reuse_preconditioner)
   // while dt, the mesh and the velocity stay the same: the Monod derivative is then the only
   // change, and a slightly stale preconditioner costs a few Krylov iterations instead of an
-  // assembly and an AMG set-up per step.
+  // assembly and a set-up per step.
   PreconditionerReuse reuse_;
   double time_ = 0;
   TransportStats stats_;

@@ -23,7 +23,13 @@ struct SparseLu::Impl {
   double info[UMFPACK_INFO];
   mutable std::vector<double> rhs, solution;
 
-  Impl() { umfpack_di_defaults(control); }
+  Impl() {
+    umfpack_di_defaults(control);
+    // As a preconditioner the factors are applied once per outer Krylov iteration; UMFPACK's
+    // default iterative refinement (two steps, each a product with A and another pair of
+    // triangular solves) triples that cost and buys accuracy the outer Krylov does not need.
+    control[UMFPACK_IRSTEP] = 0;
+  }
   ~Impl() {
     free_numeric();
     free_symbolic();

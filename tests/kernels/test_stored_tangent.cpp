@@ -4,8 +4,8 @@
 // structures; pseudo-elastic mesh motion with stiffening), on a distorted two-block mesh, with
 // both scatter policies and both storage widths (SIMD batches of simd_width elements, and one
 // element per batch as on a GPU): apply, diagonal and assembled matrix; and the point-state stores
-// of the fluid (for every linearisation) and of mesh motion (the tangent re-evaluated from a
-// stored per-point state).
+// of transport, the fluid (for every linearisation) and mesh motion (the tangent re-evaluated from
+// a stored per-point state).
 //
 // Tolerance 1e-12 relative to the largest entry: the stored and the on-the-fly products evaluate
 // the same sums in another order (the inverse Jacobian folded into the stored matrix instead of
@@ -171,6 +171,7 @@ TEST(StoredTangent, TransportEqualsOnTheFlyAndAssembled) {
       m, 1, [](int, double x, double y, double z) { return 0.4 + 0.3 * std::cos(2 * x - y + z); },
       "test::u");
   expect_stored_equals_on_the_fly(m, op, u, direction(m, 1));
+  expect_point_states_equal_on_the_fly(m, op, u, direction(m, 1));
 }
 
 TEST(StoredTangent, FluidEqualsOnTheFlyAndAssembled) {
