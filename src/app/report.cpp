@@ -139,7 +139,8 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
     << "  scalar: " << s.steps << " solves, " << s.newton_iterations << " Newton and "
     << s.krylov_iterations << " Krylov iterations, " << s.preconditioner_setups
     << " preconditioner set-ups, " << s.cut_steps << " time steps cut into sub-steps, "
-    << s.pseudo_steps << " pseudo-time steps\n";
+    << s.continued_steps << " solved by continuation in Monod's K, " << s.pseudo_steps
+    << " pseudo-time steps\n";
   if (sim.fluid && !sim.fsi) {
     const FluidStats& f = sim.fluid->stats();
     o << "  fluid: " << f.steps << " solves, " << f.newton_iterations << " Newton and "

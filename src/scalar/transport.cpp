@@ -1,5 +1,6 @@
 #include "scalar/transport.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -165,8 +166,13 @@ void TransportField::update_face_data(double t_eval) {
 }
 
 void TransportField::set_step_physics(double inv_dt, double theta) {
+  set_step_physics(inv_dt, theta, settings_.coefficients);
+}
+
+void TransportField::set_step_physics(double inv_dt, double theta,
+                                      const TransportCoefficients& coefficients) {
   TransportPhysics p;
-  p.coef = settings_.coefficients;
+  p.coef = coefficients;
   p.inv_dt = inv_dt;
   p.theta = theta;
   p.supg = settings_.supg;
@@ -264,15 +270,79 @@ NewtonResult TransportField::step_once(double dt, double theta, const std::strin
                                        bool fresh_preconditioner) {
   copy(phi_, phi_old_);
   set_aux_column(aux_, TransportPhysics::aux_phi_old, phi_old_);
-  set_step_physics(1.0 / dt, theta);
+  const NewtonResult r = solve_step(dt, theta, label, fresh_preconditioner, settings_.coefficients);
+  time_ += dt;
+  return r;
+}
+
+NewtonResult TransportField::solve_step(double dt, double theta, const std::string& label,
+                                        bool fresh_preconditioner,
+                                        const TransportCoefficients& coefficients) {
+  set_step_physics(1.0 / dt, theta, coefficients);
   update_face_data(time_ + theta * dt);
   update_source(time_ + theta * dt);
   impose_dirichlet(time_ + dt);
   // The matrix depends on dt and theta, the mesh and the velocity (which invalidate reuse_) and,
   // through Monod's derivative, on phi, which changes little from one step to the next.
   reuse_.require({dt, theta});
-  const NewtonResult r = advance(label, storage_roundoff(1.0 / dt), fresh_preconditioner);
+  return advance(label, storage_roundoff(1.0 / dt), fresh_preconditioner);
+}
+
+namespace {
+
+// The half-saturation constants a continuation starts from and divides by at each stage. Where
+// K is far below the concentrations, the rate k phi/(K + |phi|) is a step of width ~K at phi = 0,
+// and Newton's model of it, flat on either side, sends the nodes just above a forming front below
+// zero, where the rate jumps: the line search cannot recover. Solved with K' = 1e-2 of the
+// largest concentration first and K' divided by 100 at each stage down to K, every stage starts
+// from the previous one's solution, within Newton's reach (the steady continuation of
+// tests/scalar/test_biofilm.cpp converges in 2-16 iterations per stage down to K = 1e-12).
+constexpr double continuation_start = 1e-2, continuation_ratio = 1e-2;
+
+}  // namespace
+
+NewtonResult TransportField::step_or_continue(double dt, double theta, const std::string& label,
+                                              bool fresh_preconditioner) {
+  try {
+    return step_once(dt, theta, label, fresh_preconditioner);
+  } catch (const SolveError& first) {
+    // advance() restored phi_ to the step's start, phi_old_.
+    try {
+      return step_by_half_saturation_continuation(dt, theta, label);
+    } catch (const SolveError&) {
+      copy(phi_old_, phi_);
+      set_step_physics(1.0 / dt, theta);
+      throw first;
+    }
+  }
+}
+
+NewtonResult TransportField::step_by_half_saturation_continuation(double dt, double theta,
+                                                                  const std::string& label) {
+  const TransportCoefficients& coef = settings_.coefficients;
+  double scale = 0;
+  for (double v : to_host_vector(phi_old_)) scale = std::max(scale, std::abs(v));
+  const double first = continuation_start * scale;
+  double smallest = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < max_blocks; ++b)
+    if (coef.monod_rate[b] > 0) smallest = std::min(smallest, coef.monod_half_saturation[b]);
+  if (!(smallest < first))
+    throw SolveError("scalar", label, "no Monod block with a small half-saturation constant");
+  NewtonResult r;
+  for (double level = first;; level *= continuation_ratio) {
+    const double stage = std::max(level, smallest);
+    TransportCoefficients c = coef;
+    for (int b = 0; b < max_blocks; ++b)
+      if (c.monod_rate[b] > 0)
+        c.monod_half_saturation[b] = std::max(c.monod_half_saturation[b], stage);
+    std::ostringstream l;
+    l << label << " (continuation, K = " << stage << ")";
+    r = solve_step(dt, theta, l.str(), true, c);
+    if (stage == smallest) break;
+  }
+  set_step_physics(1.0 / dt, theta);
   time_ += dt;
+  ++stats_.continued_steps;
   return r;
 }
 
@@ -280,7 +350,7 @@ NewtonResult TransportField::step(double dt, const std::string& label) {
   if (!(dt > 0) || !std::isfinite(dt))
     throw SolveError("scalar", label, "time step must be positive and finite");
   try {
-    return step_once(dt, settings_.theta, label, false);
+    return step_or_continue(dt, settings_.theta, label, false);
   } catch (const SolveError& first) {
     // Cut the step into 2, 4, ... sub-steps with a fresh preconditioner at every Newton
     // iteration: a steep reaction front (Monod with small K) needs smaller steps to be crossed.
@@ -289,7 +359,9 @@ NewtonResult TransportField::step(double dt, const std::string& label) {
     copy(phi_, start);
     return retry_in_sub_steps(
         first, "scalar", label, dt, settings_.max_step_cuts,
-        [&](double h, const std::string& l) { return step_once(h, settings_.theta, l, true); },
+        [&](double h, const std::string& l) {
+          return step_or_continue(h, settings_.theta, l, true);
+        },
         [&] {
           copy(start, phi_);
           copy(start, phi_old_);
@@ -315,7 +387,7 @@ NewtonResult TransportField::solve_steady(const std::string& label) {
   return solve_steady_with_continuation(
       "scalar", label, phi_, time_, settings_.pseudo_transient_steps, settings_.pseudo_dt0,
       [&](const std::string& l) { return steady_newton(l); },
-      [&](double dt, const std::string& l) { step_once(dt, 1.0, l, true); }, nullptr,
+      [&](double dt, const std::string& l) { step_or_continue(dt, 1.0, l, true); }, nullptr,
       stats_.pseudo_steps);
 }
 

@@ -68,8 +68,9 @@ struct BoundaryFlux {
 
 struct TransportStats {
   int steps = 0, newton_iterations = 0, krylov_iterations = 0, preconditioner_setups = 0;
-  int cut_steps = 0;     // time steps that needed sub-steps
-  int pseudo_steps = 0;  // pseudo-time steps of steady solves that needed continuation
+  int cut_steps = 0;        // time steps that needed sub-steps
+  int pseudo_steps = 0;     // pseudo-time steps of steady solves that needed continuation
+  int continued_steps = 0;  // time steps solved by continuation in Monod's half-saturation
   double seconds_residual = 0, seconds_tangent = 0, seconds_linearise = 0, seconds_assembly = 0,
          seconds_preconditioner_setup = 0, seconds_solve = 0;
 };
@@ -136,12 +137,22 @@ class TransportField {
   NewtonResult advance(const std::string& label, double abs_floor, bool fresh_preconditioner);
   NewtonResult step_once(double dt, double theta, const std::string& label,
                          bool fresh_preconditioner);
+  // One step of dt from phi_old_ to phi_ (phi_ the first iterate) with the given coefficients.
+  NewtonResult solve_step(double dt, double theta, const std::string& label,
+                          bool fresh_preconditioner, const TransportCoefficients& coefficients);
+  // step_once, and where its Newton fails on a Monod block with a small half-saturation constant,
+  // the same step again by continuation in that constant.
+  NewtonResult step_or_continue(double dt, double theta, const std::string& label,
+                                bool fresh_preconditioner);
+  NewtonResult step_by_half_saturation_continuation(double dt, double theta,
+                                                    const std::string& label);
   NewtonResult steady_newton(const std::string& label);
   double storage_roundoff(double inv_dt) const;
   void impose_dirichlet(double t);
   void update_face_data(double t_eval);
   void setup_preconditioner(ConstVector phi);
   void set_step_physics(double inv_dt, double theta);
+  void set_step_physics(double inv_dt, double theta, const TransportCoefficients& coefficients);
   void update_source(double t_eval);
 
   Mesh mesh_;

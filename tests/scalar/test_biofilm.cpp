@@ -184,18 +184,80 @@ TEST(ScalarTransport, MonodWithVanishingHalfSaturationConvergesWithoutUndershoot
   }
 }
 
-// The same deep film solved the way a run meets it: the steady problem straight from the uniform
-// state S_s, and time steps from it, with the default settings. Newton (Armijo backtracking on
-// ||r||, at most 20 halvings) has to cross the near-jump of width ~K of the rate at S = 0; the
-// field falls back to pseudo-transient continuation (steady) and step cutting (transient).
-// Known limit: from the uniform state with K = 1e-12 neither fallback converges (the rate is then
-// a step function to round-off and Newton's linear model is useless near S = 0); K down to 1e-12
-// is reached by continuation in K (the test above), and down to 1e-8 from the uniform state here.
-// Time steps of 0.01 ms through the forming front converge for K = 1e-4; for K <= 1e-8 they do not
-// yet (Newton stalls once a node's value crosses zero) — an open problem recorded in the issue.
+// The same deep film as a run meets it, in time: 100 steps of 0.01 ms (the diffusion time
+// L_f^2 / D is 40 ms) from the uniform state S_s:
+// the deep film is consumed at the zero-order rate k and reaches S = 0 at t = S_s / k = 0.2 ms,
+// where a front forms and moves up. Newton alone crosses it for K = 1e-4; for K <= 1e-8 the steps
+// at the front need the field's continuation in K (TransportStats::continued_steps), and they must
+// converge for K down to 1e-12 with the default settings. Checks, and why:
+//  * no undershoot below -0.01 S_s: the issue's bound (as in the steady tests);
+//  * the solutions for K = 1e-8 and 1e-10 differ from K = 1e-12's by at most 10 K S_s: where
+//    S >> K the rate differs from the zero-order one by O(K / S), and in the dead zone S itself is
+//    O(K), so the K-dependence of the discrete solution is O(K) (measured: printed below);
+//  * the substrate balance of every step not cut into sub-steps: the change of the amount equals
+//    what entered through the top (the consistent boundary flux) less what was consumed, to 1e-9
+//    of the step's consumption (measured ~1e-12: Newton's tolerance; a dropped or misplaced
+//    reaction term at the front would show at the 1e-2 level).
+TEST(ScalarTransport, MonodTimeStepsThroughAFormingFrontConvergeForKDownTo1e12) {
+  const double k = deep_film_rate();
+  std::vector<double> smallest_k;  // the solution for K = 1e-12
+  for (double K : {1e-12, 1e-10, 1e-8, 1e-4}) {
+    const Mesh mesh = film_mesh(film_elements);
+    TransportSettings s;
+    s.theta = 1.0;
+    s.coefficients.diffusivity[0] = film_diffusivity;
+    s.coefficients.monod_rate[0] = k;
+    s.coefficients.monod_half_saturation[0] = K;
+    TransportField field(mesh, s,
+                         {dirichlet("top", [](const Point&, double) { return surface_value; })});
+    field.set_initial([](const Point&, double) { return surface_value; }, 0.0);
+    double worst_balance = 0;
+    for (int i = 0; i < 100; ++i) {
+      const double before = field.integral();
+      const int cuts = field.stats().cut_steps;
+      try {
+        field.step(0.01, "step " + std::to_string(i));
+      } catch (const SolveError& e) {
+        FAIL() << "time step " << i << " (t = " << field.time() << " ms), K = " << K << ": "
+               << e.what();
+      }
+      // Backward Euler: the step's flux and consumption at its end (a step cut into sub-steps
+      // balances over its sub-steps, which the test does not see).
+      if (field.stats().cut_steps != cuts) continue;
+      const double consumed = 0.01 * field.reaction_integral();
+      const double entered = 0.01 * field.boundary_flux("top", -1).total;
+      worst_balance = std::max(worst_balance,
+                               std::abs(field.integral() - before - entered + consumed) / consumed);
+    }
+    const std::vector<double> phi = field.solution_host();
+    const double min_value = *std::min_element(phi.begin(), phi.end());
+    double from_smallest_k = 0;
+    if (smallest_k.empty()) smallest_k = phi;
+    for (size_t n = 0; n < phi.size(); ++n)
+      from_smallest_k = std::max(from_smallest_k, std::abs(phi[n] - smallest_k[n]));
+    std::printf(
+        "[ measured ] K = %.0e: %d steps solved by continuation in K, %d cut into "
+        "sub-steps, %d Newton iterations, min phi %.3e S_s, largest difference from "
+        "K = 1e-12 %.3e S_s, worst step balance %.2e\n",
+        K, field.stats().continued_steps, field.stats().cut_steps, field.stats().newton_iterations,
+        min_value / surface_value, from_smallest_k / surface_value, worst_balance);
+    EXPECT_GE(min_value, -0.01 * surface_value) << "K = " << K;
+    EXPECT_LT(worst_balance, 1e-9) << "K = " << K;
+    if (K <= 1e-8) {
+      EXPECT_GT(field.stats().continued_steps, 0) << "K = " << K;
+      EXPECT_LE(from_smallest_k, 10 * K * surface_value) << "K = " << K;
+    }
+  }
+}
+
+// The same deep film's steady problem straight from the uniform state S_s, with the default
+// settings. Newton (Armijo backtracking on ||r||, at most 20 halvings) has to cross the near-jump
+// of width ~K of the rate at S = 0 and fails for small K; the field falls back to
+// pseudo-transient continuation, whose pseudo-time steps fall back to continuation in K where
+// Newton fails at the front (as the time steps above), down to K = 1e-12.
 TEST(ScalarTransport, MonodWithVanishingHalfSaturationConvergesFromUniformState) {
   const double k = deep_film_rate();
-  for (double K : {1e-4, 1e-8}) {
+  for (double K : {1e-4, 1e-8, 1e-10, 1e-12}) {
     FilmResult r;
     try {
       r = solve_film(k, K, TransportSettings{});
@@ -203,27 +265,13 @@ TEST(ScalarTransport, MonodWithVanishingHalfSaturationConvergesFromUniformState)
       ADD_FAILURE() << "steady solve from S_s, K = " << K << ": " << e.what();
       continue;
     }
-    std::printf("[ measured ] steady from S_s, K = %.0e: Newton %d iterations, min phi %.3e\n", K,
-                r.newton.iterations, r.min_value);
+    const double j_exact = monod_first_integral_flux(k, K, std::max(r.s_min, 0.0));
+    std::printf(
+        "[ measured ] steady from S_s, K = %.0e: Newton %d iterations, min phi %.3e, "
+        "flux relative to the first integral %.2e\n",
+        K, r.newton.iterations, r.min_value, r.flux / j_exact - 1);
     EXPECT_GE(r.min_value, -0.01 * surface_value) << "K = " << K;
-  }
-  // Time steps of 0.01 ms (the diffusion time L_f^2 / D is 40 ms) until the front has formed.
-  const Mesh mesh = film_mesh(film_elements);
-  TransportSettings s;
-  s.theta = 1.0;
-  s.coefficients.diffusivity[0] = film_diffusivity;
-  s.coefficients.monod_rate[0] = k;
-  s.coefficients.monod_half_saturation[0] = 1e-4;
-  TransportField field(mesh, s,
-                       {dirichlet("top", [](const Point&, double) { return surface_value; })});
-  field.set_initial([](const Point&, double) { return surface_value; }, 0.0);
-  for (int i = 0; i < 100; ++i) {
-    try {
-      field.step(0.01, "step " + std::to_string(i));
-    } catch (const SolveError& e) {
-      ADD_FAILURE() << "time step " << i << " (t = " << field.time()
-                    << " ms), K = 1e-4: " << e.what();
-      break;
-    }
+    // Same flux requirement as for the resolved Monod film above.
+    EXPECT_NEAR(r.flux / j_exact, 1.0, 5e-3) << "K = " << K;
   }
 }
