@@ -1,7 +1,8 @@
 // The structure field at the extremes: nearly incompressible material on plain hex8 (volumetric
 // locking, reported as measured), a very soft cantilever under a load that rotates its tip by
-// ~70 degrees in ten load steps (Newton with line search), and a Newton failure that must stop with
-// the field, the step and the residual history, leaving the state untouched.
+// ~70 degrees in ten load steps (Newton with line search), a very stiff one (E up to 1e12 under a
+// fixed load), and a Newton failure that must stop with the field, the step and the residual
+// history, leaving the state untouched.
 //
 // Tolerances, and why:
 //  * Locking: plane-strain cantilever (L = 10, H = 1, one element thick), end shear traction small
@@ -12,6 +13,12 @@
 //    conversion that ignored nu) and prints it. No F-bar is offered: the biofilm cases use
 //    nu = 0.3-0.45 (see the report in bench/README.md and the issue), where the 4x refined mesh
 //    is within a few per cent.
+//  * Stiff cantilever: a fixed end traction with P L^2/(E I) = 1e-3 at E = 1, E from 1 to 1e12:
+//    the deflection must scale as 1/E. From E = 1e3 on the geometric nonlinearity is below 1e-6
+//    of the deflection, so E times the deflection must agree with E = 1e12's to 1e-6 (measured
+//    1e-12); a tolerance or round-off floor that does not scale with the stiffness (an absolute
+//    residual or step tolerance) would show as a drift with E. Newton in at most 3 iterations
+//    (measured 1 from E = 1e3, 2 at E = 1).
 //  * Soft cantilever: E = 1e-3, tip traction giving a bending parameter P L^2/(E I) = 10; the
 //    Euler elastica has vertical tip deflection 0.81 L there (Bisshopp & Drucker 1945). Measured:
 //    Newton from the undeformed state at full load does not converge in one step (neither with
@@ -101,6 +108,31 @@ TEST(StructureExtremes, VerySoftCantileverRotatesFarInTenLoadSteps) {
   EXPECT_NEAR(v, 0.81, 0.081);
   // Measured: one of the ten steps is cut in two (the line search alone does not carry it).
   EXPECT_LE(field.stats().cut_steps, 2);
+}
+
+TEST(StructureExtremes, VeryStiffCantileverDeflectsInProportionToTheCompliance) {
+  const Mesh mesh = cantilever(20, 2);
+  std::vector<double> scaled;  // E times the tip deflection, per E
+  const std::vector<double> moduli = {1.0, 1e3, 1e6, 1e9, 1e12};
+  for (double e : moduli) {
+    StructureSettings s = tight_structure_settings({material(NeoHooke, e, 0.3)}, true);
+    s.plane_strain = true;
+    // P L^2 / (E' I) = 1e-3 at E = 1: the linear regime, and 1e-15 at E = 1e12.
+    const double e_eff = 1.0 / (1 - 0.3 * 0.3), t = 1e-3 * e_eff / (12 * 100.0);
+    StructureTraction load{"right", {constant(0), constant(-t), constant(0)}};
+    StructureField field(mesh, s, {clamp("left")}, {load});
+    const NewtonResult r = field.step(1.0, "stiff cantilever, E = " + std::to_string(e));
+    const double v = -tip_deflection(mesh, field.displacement());
+    scaled.push_back(e * v);
+    std::printf(
+        "[ measured ] E = %.0e: tip deflection %.6e, E times it %.12e, Newton %d, "
+        "Krylov %d\n",
+        e, v, e * v, r.iterations, r.krylov_iterations);
+    EXPECT_TRUE(r.converged);
+    EXPECT_LE(r.iterations, 3) << "E = " << e;
+  }
+  for (size_t i = 1; i < scaled.size(); ++i)
+    EXPECT_NEAR(scaled[i] / scaled.back(), 1.0, 1e-6) << "E = " << moduli[i];
 }
 
 TEST(StructureExtremes, NewtonFailureStopsWithFieldStepAndResidualHistory) {
