@@ -59,14 +59,22 @@ struct FilmResult {
   NewtonResult newton;
 };
 
+// The film's settings: `base` with its diffusivity and Monod constants.
+TransportSettings film_settings(double k, double K, TransportSettings base = {}) {
+  base.coefficients.diffusivity[0] = film_diffusivity;
+  base.coefficients.monod_rate[0] = k;
+  base.coefficients.monod_half_saturation[0] = K;
+  return base;
+}
+
+// S = S_s on the film's top, the only boundary condition.
+std::vector<ScalarBoundaryCondition> surface_condition() {
+  return {dirichlet("top", [](const Point&, double) { return surface_value; })};
+}
+
 FilmResult solve_film(double k, double K, const TransportSettings& base, int ny = film_elements) {
   const Mesh mesh = film_mesh(ny);
-  TransportSettings s = base;
-  s.coefficients.diffusivity[0] = film_diffusivity;
-  s.coefficients.monod_rate[0] = k;
-  s.coefficients.monod_half_saturation[0] = K;
-  TransportField field(mesh, s,
-                       {dirichlet("top", [](const Point&, double) { return surface_value; })});
+  TransportField field(mesh, film_settings(k, K, base), surface_condition());
   field.set_initial([](const Point&, double) { return surface_value; }, 0.0);
   FilmResult out;
   out.newton = field.solve_steady("1-D film");
@@ -154,12 +162,7 @@ TEST(ScalarTransport, MonodWithVanishingHalfSaturationConvergesWithoutUndershoot
   std::vector<double> previous;
   for (double K : {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12}) {
     const Mesh mesh = film_mesh(film_elements);
-    TransportSettings sk = s;
-    sk.coefficients.diffusivity[0] = film_diffusivity;
-    sk.coefficients.monod_rate[0] = k;
-    sk.coefficients.monod_half_saturation[0] = K;
-    TransportField field(mesh, sk,
-                         {dirichlet("top", [](const Point&, double) { return surface_value; })});
+    TransportField field(mesh, film_settings(k, K, s), surface_condition());
     field.set_initial([](const Point&, double) { return surface_value; }, 0.0);
     if (!previous.empty()) field.set_solution(previous);
     NewtonResult r;
@@ -203,13 +206,9 @@ TEST(ScalarTransport, MonodTimeStepsThroughAFormingFrontConvergeForKDownTo1e12) 
   std::vector<double> smallest_k;  // the solution for K = 1e-12
   for (double K : {1e-12, 1e-10, 1e-8, 1e-4}) {
     const Mesh mesh = film_mesh(film_elements);
-    TransportSettings s;
-    s.theta = 1.0;
-    s.coefficients.diffusivity[0] = film_diffusivity;
-    s.coefficients.monod_rate[0] = k;
-    s.coefficients.monod_half_saturation[0] = K;
-    TransportField field(mesh, s,
-                         {dirichlet("top", [](const Point&, double) { return surface_value; })});
+    TransportSettings backward_euler;
+    backward_euler.theta = 1.0;
+    TransportField field(mesh, film_settings(k, K, backward_euler), surface_condition());
     field.set_initial([](const Point&, double) { return surface_value; }, 0.0);
     double worst_balance = 0;
     for (int i = 0; i < 100; ++i) {
