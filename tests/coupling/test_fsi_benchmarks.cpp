@@ -6,12 +6,12 @@
 // Measured (shape derivatives on, inner block tolerance 3e-4), deviation from the reference:
 //   refine 1 (6076 nodes):  u_x(A) +3.31%, u_y(A) -2.90%, drag +0.89%, lift +3.23%;
 //                           7 Newton (quadratic), 45 outer FGMRES iterations
-//                           (3 6 6 6 13 8 3), 53 s on 1 thread
+//                           (3 6 6 6 13 8 3), 53 s on 1 thread (fluid block SIMPLE)
 //   refine 2 (23704 nodes): u_x(A) +1.16%, u_y(A) -0.51%, drag +0.28%, lift +0.94%;
-//                           7 Newton, 52 outer FGMRES (3 8 8 8 10 10 5), 490 s on 1 thread
-//                           (the fluid block's SIMPLE-preconditioned inner solves: 399 s)
-// With the scenes' inner tolerance 1e-2 refine 2 takes 313 outer iterations and 1191 s on 2
-// threads, too slow for CI; the table of tolerances is at FsiSettings::inner_tolerance.
+//                           7 Newton, 34 outer FGMRES (1 3 3 4 6 12 5), 40 s on 2 threads with
+//                           the fluid block's sparse LU (run_fsi1; SIMPLE: 141 s, the same
+//                           results; at the scenes' inner tolerance 1e-2 SIMPLE took 313 outer
+//                           iterations and 1191 s; FsiSettings::inner_tolerance has the table).
 // Tolerances, and why: the 2% for every quantity, on the CI mesh. Refine 1 (4 elements
 // through the flag) is not fine enough for 2%: u_x and lift are 3.3% off. Cheaper CI meshes
 // measured: refine 1 with only the flag (and the fluid rows along it) at refine 2, 9348 nodes:
