@@ -268,55 +268,12 @@ struct ElementLoop {
     integrate_and_scatter(g, f0, f1);
   }
 
-  // Column (b, cb) of the element matrix: the tangent along the single basis function N_b e_cb.
-  KOKKOS_INLINE_FUNCTION void element_column(const Gathered& g, int b, int cb,
-                                             Real (*column)[NC]) const {
-    for (int a = 0; a < NN; ++a)
-      for (int c = 0; c < NC; ++c) column[a][c] = 0;
-    for (int q = 0; q < NQ; ++q) {
-      Real nb, gref[3], gb[3];
-      basis_at_point<Basis>(b, q, nb, gref);
-      physical_gradient(g.geo.inv[q], gref, gb);
-      Real uq[NC], gu[NC][3], duq[NC], gdu[NC][3], r0[NC], r1[NC][3];
-      for (int c = 0; c < NC; ++c) {
-        uq[c] = g.uq[c][q];
-        duq[c] = c == cb ? nb : 0.0;
-        for (int d = 0; d < 3; ++d) {
-          gu[c][d] = g.gu[c][q][d];
-          gdu[c][d] = c == cb ? gb[d] : 0.0;
-        }
-      }
-      physics.tangent(g.qp[q], uq, gu, duq, gdu, r0, r1);
-      for (int a = 0; a < NN; ++a) {
-        Real na, garef[3], ga[3];
-        basis_at_point<Basis>(a, q, na, garef);
-        physical_gradient(g.geo.inv[q], garef, ga);
-        for (int c = 0; c < NC; ++c)
-          column[a][c] +=
-              g.geo.wdet[q] * (na * r0[c] + ga[0] * r1[c][0] + ga[1] * r1[c][1] + ga[2] * r1[c][2]);
-      }
-    }
-  }
+  static constexpr int ND = NN * NC;  // rows (and columns) of the element matrix
 
-  KOKKOS_INLINE_FUNCTION void operator()(DiagonalTag, int i) const {
-    Gathered g;
-    gather(elements(i), g);
-    for (int b = 0; b < NN; ++b)
-      for (int cb = 0; cb < NC; ++cb) {
-        Real column[NN][NC];
-        element_column(g, b, cb, column);
-        accumulate(atomic, &out(g.node[b] * NC + cb), column[b][cb]);
-      }
-  }
-
-  // The element matrix point by point: the tangent at a point (its state evaluated once) along
-  // every basis function, so that a Physics with point states evaluates them NQ times per
-  // element, not NQ NN NC times as column by column.
-  KOKKOS_INLINE_FUNCTION void operator()(AssembleTag, int i) const {
-    Gathered g;
-    gather(elements(i), g);
-    constexpr int ND = NN * NC;
-    Real ke[ND][ND];  // row a NC + c, column b NC + cb
+  // The element matrix point by point, row a NC + c and column b NC + cb: the tangent at a point
+  // (its state evaluated once) along every basis function N_b e_cb, so that a Physics with point
+  // states evaluates them NQ times per element, not NQ NN NC times as column by column.
+  KOKKOS_INLINE_FUNCTION void element_matrix(const Gathered& g, Real (*ke)[ND]) const {
     for (int r = 0; r < ND; ++r)
       for (int s = 0; s < ND; ++s) ke[r][s] = 0;
     for (int q = 0; q < NQ; ++q) {
@@ -348,6 +305,23 @@ struct ElementLoop {
                                    grad[a][2] * r1[c][2]);
         }
     }
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(DiagonalTag, int i) const {
+    Gathered g;
+    gather(elements(i), g);
+    Real ke[ND][ND];
+    element_matrix(g, ke);
+    for (int b = 0; b < NN; ++b)
+      for (int cb = 0; cb < NC; ++cb)
+        accumulate(atomic, &out(g.node[b] * NC + cb), ke[b * NC + cb][b * NC + cb]);
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(AssembleTag, int i) const {
+    Gathered g;
+    gather(elements(i), g);
+    Real ke[ND][ND];
+    element_matrix(g, ke);
     const int* rp = matrix.row_ptr.data();
     const int* cols = matrix.col.data();
     for (int b = 0; b < NN; ++b)

@@ -71,18 +71,6 @@ CouplingBlock make_coupling(const CsrMatrix& source, const std::vector<int>& row
   return b;
 }
 
-double max_abs(ConstVector v) {
-  double m = 0;
-  Kokkos::parallel_reduce(
-      "biofsi::max_abs", Kokkos::RangePolicy<ExecSpace>(0, v.extent(0)),
-      KOKKOS_LAMBDA(int i, double& acc) {
-        const double a = v(i) < 0 ? -v(i) : v(i);
-        if (a > acc) acc = a;
-      },
-      Kokkos::Max<double>(m));
-  return m;
-}
-
 }  // namespace
 
 struct FsiProblem::Impl {

@@ -305,31 +305,29 @@ NewtonResult TransportField::step_or_continue(double dt, double theta, const std
                                               bool fresh_preconditioner) {
   try {
     return step_once(dt, theta, label, fresh_preconditioner);
-  } catch (const SolveError& first) {
+  } catch (const SolveError& failure) {
     // advance() restored phi_ to the step's start, phi_old_.
+    const double start = continuation_start * max_abs(phi_old_);
+    double smallest = std::numeric_limits<double>::infinity();
+    for (int b = 0; b < max_blocks; ++b)
+      if (settings_.coefficients.monod_rate[b] > 0)
+        smallest = std::min(smallest, settings_.coefficients.monod_half_saturation[b]);
+    if (!(smallest < start)) throw;
     try {
-      return step_by_half_saturation_continuation(dt, theta, label);
+      return step_by_half_saturation_continuation(dt, theta, label, start, smallest);
     } catch (const SolveError&) {
-      copy(phi_old_, phi_);
-      set_step_physics(1.0 / dt, theta);
-      throw first;
+      set_step_physics(1.0 / dt, theta);  // the field's own coefficients again
+      throw failure;
     }
   }
 }
 
 NewtonResult TransportField::step_by_half_saturation_continuation(double dt, double theta,
-                                                                  const std::string& label) {
+                                                                  const std::string& label,
+                                                                  double start, double smallest) {
   const TransportCoefficients& coef = settings_.coefficients;
-  double scale = 0;
-  for (double v : to_host_vector(phi_old_)) scale = std::max(scale, std::abs(v));
-  const double first = continuation_start * scale;
-  double smallest = std::numeric_limits<double>::infinity();
-  for (int b = 0; b < max_blocks; ++b)
-    if (coef.monod_rate[b] > 0) smallest = std::min(smallest, coef.monod_half_saturation[b]);
-  if (!(smallest < first))
-    throw SolveError("scalar", label, "no Monod block with a small half-saturation constant");
   NewtonResult r;
-  for (double level = first;; level *= continuation_ratio) {
+  for (double level = start;; level *= continuation_ratio) {
     const double stage = std::max(level, smallest);
     TransportCoefficients c = coef;
     for (int b = 0; b < max_blocks; ++b)

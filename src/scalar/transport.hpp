@@ -141,11 +141,13 @@ class TransportField {
   NewtonResult solve_step(double dt, double theta, const std::string& label,
                           bool fresh_preconditioner, const TransportCoefficients& coefficients);
   // step_once, and where its Newton fails on a Monod block with a small half-saturation constant,
-  // the same step again by continuation in that constant.
+  // the same step again by continuation in that constant; a failure reports step_once's.
   NewtonResult step_or_continue(double dt, double theta, const std::string& label,
                                 bool fresh_preconditioner);
+  // The step from phi_old_ with K' = start, start/100, ... down to `smallest` in every Monod block.
   NewtonResult step_by_half_saturation_continuation(double dt, double theta,
-                                                    const std::string& label);
+                                                    const std::string& label, double start,
+                                                    double smallest);
   NewtonResult steady_newton(const std::string& label);
   double storage_roundoff(double inv_dt) const;
   void impose_dirichlet(double t);

@@ -22,6 +22,7 @@ namespace biofsi {
 // ---- vector operations (Kokkos reductions in the execution space) ----
 Real dot(ConstVector a, ConstVector b);
 Real norm2(ConstVector a);
+Real max_abs(ConstVector a);  // max_i |a_i|
 bool all_finite(ConstVector a);
 void axpy(Real alpha, ConstVector x, Vector y);              // y += alpha x
 void axpby(Real alpha, ConstVector x, Real beta, Vector y);  // y = alpha x + beta y

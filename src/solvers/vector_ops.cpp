@@ -22,6 +22,18 @@ Real dot(ConstVector a, ConstVector b) {
 
 Real norm2(ConstVector a) { return std::sqrt(dot(a, a)); }
 
+Real max_abs(ConstVector a) {
+  Real m = 0;
+  Kokkos::parallel_reduce(
+      "biofsi::max_abs", range(a),
+      KOKKOS_LAMBDA(int i, Real& acc) {
+        const Real v = a(i) < 0 ? -a(i) : a(i);
+        if (v > acc) acc = v;
+      },
+      Kokkos::Max<Real>(m));
+  return m;
+}
+
 bool all_finite(ConstVector a) {
   int bad = 0;
   // Two comparisons instead of isfinite: NaN fails both, +-inf fails one, and the test needs no
