@@ -28,7 +28,22 @@ struct TensorBasis<2, 2> {
   KOKKOS_INLINE_FUNCTION static Real D(int q, int i) { return derivative(i, point(q)); }
 };
 
+// Q1 with the 1-point (centre) Gauss rule: the reduced rule of selective reduced integration.
+template <>
+struct TensorBasis<2, 1> {
+  static constexpr int P = 2, Q = 1, n_nodes = 8, n_qp = 1;
+  KOKKOS_INLINE_FUNCTION static Real point(int) { return 0.0; }
+  KOKKOS_INLINE_FUNCTION static Real weight(int) { return 2.0; }
+  KOKKOS_INLINE_FUNCTION static Real value(int i, Real xi) {
+    return i == 0 ? 0.5 * (1.0 - xi) : 0.5 * (1.0 + xi);
+  }
+  KOKKOS_INLINE_FUNCTION static Real derivative(int i, Real) { return i == 0 ? -0.5 : 0.5; }
+  KOKKOS_INLINE_FUNCTION static Real B(int q, int i) { return value(i, point(q)); }
+  KOKKOS_INLINE_FUNCTION static Real D(int q, int i) { return derivative(i, point(q)); }
+};
+
 using Hex8 = TensorBasis<2, 2>;
+using Hex8Centre = TensorBasis<2, 1>;
 
 // VTK hexahedron order of the lexicographic node l = i + 2j + 4k.
 KOKKOS_INLINE_FUNCTION int vtk_of_lex(int l) {

@@ -89,9 +89,23 @@ KOKKOS_INLINE_FUNCTION void strain_variation(const Real f[3][3], const Real df[3
 // For J <= 0 the Neo-Hooke stress is NaN (log of a non-positive number): the Newton line search
 // treats a non-finite residual as a failed trial and shortens the step.
 
+// Which terms of the strain energy a quadrature rule integrates. Selective reduced integration
+// splits W into its volumetric term (kappa/4 (J^2 - 1 - 2 ln J) for Neo-Hooke, lambda/2 (tr E)^2
+// for St. Venant-Kirchhoff: the terms that grow without bound as nu -> 0.5) integrated at the
+// element centre, and the rest at the 2x2x2 points; one volumetric constraint per element instead
+// of eight is what removes hex8's volumetric locking.
+enum class EnergyTerms : int { All = 0, AllButVolumetric = 1, Volumetric = 2 };
+
 struct MaterialPoint {
   int model;
   Real lambda, mu;
+  EnergyTerms terms = EnergyTerms::All;
+  KOKKOS_INLINE_FUNCTION Real volumetric_weight() const {
+    return terms == EnergyTerms::AllButVolumetric ? 0.0 : 1.0;
+  }
+  KOKKOS_INLINE_FUNCTION Real other_weight() const {
+    return terms == EnergyTerms::Volumetric ? 0.0 : 1.0;
+  }
 };
 
 // E = (G + G^T + G^T G)/2 from the displacement gradient G, never through C - I: at small strains
@@ -109,9 +123,10 @@ KOKKOS_INLINE_FUNCTION void second_piola_kirchhoff(const MaterialPoint& m, const
   if (m.model == SaintVenantKirchhoff) {
     Real e[3][3];
     green_lagrange(g, e);
-    const Real tr_e = e[0][0] + e[1][1] + e[2][2];
+    const Real two_mu = 2.0 * m.mu * m.other_weight();
+    const Real lambda_tr_e = m.lambda * m.volumetric_weight() * (e[0][0] + e[1][1] + e[2][2]);
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) s[i][j] = 2.0 * m.mu * e[i][j] + (i == j ? m.lambda * tr_e : 0.0);
+      for (int j = 0; j < 3; ++j) s[i][j] = two_mu * e[i][j] + (i == j ? lambda_tr_e : 0.0);
     return;
   }
   Real f[3][3], c[3][3];
@@ -125,10 +140,11 @@ KOKKOS_INLINE_FUNCTION void second_piola_kirchhoff(const MaterialPoint& m, const
   Real ci[3][3];
   inverse3(c, det_c, ci);
   const Real i1 = c[0][0] + c[1][1] + c[2][2];
-  const Real vol = 0.5 * kappa * (j * j - 1.0);
+  const Real vol = 0.5 * kappa * (j * j - 1.0) * m.volumetric_weight();
+  const Real mu_a = m.mu * a * m.other_weight();
   for (int p = 0; p < 3; ++p)
     for (int q = 0; q < 3; ++q)
-      s[p][q] = m.mu * a * ((p == q ? 1.0 : 0.0) - i1 / 3.0 * ci[p][q]) + vol * ci[p][q];
+      s[p][q] = mu_a * ((p == q ? 1.0 : 0.0) - i1 / 3.0 * ci[p][q]) + vol * ci[p][q];
 }
 
 // dS along dF (the consistent material tangent C : dE, dE = sym(F^T dF)).
@@ -139,14 +155,16 @@ KOKKOS_INLINE_FUNCTION void second_piola_kirchhoff_derivative(const MaterialPoin
   deformation_gradient(g, f);
   strain_variation(f, df, de);
   if (m.model == SaintVenantKirchhoff) {
-    const Real tr = de[0][0] + de[1][1] + de[2][2];
+    const Real two_mu = 2.0 * m.mu * m.other_weight();
+    const Real lambda_tr = m.lambda * m.volumetric_weight() * (de[0][0] + de[1][1] + de[2][2]);
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) ds[i][j] = 2.0 * m.mu * de[i][j] + (i == j ? m.lambda * tr : 0.0);
+      for (int j = 0; j < 3; ++j) ds[i][j] = two_mu * de[i][j] + (i == j ? lambda_tr : 0.0);
     return;
   }
   // With dC = 2 dE: dJ = J C^{-1}:dE, d(C^{-1}) = -2 C^{-1} dE C^{-1}, d(J^{-2/3}) = -2/3 J^{-2/3}
   // C^{-1}:dE, dI1 = 2 tr dE.
-  const Real kappa = m.lambda + 2.0 * m.mu / 3.0;
+  const Real kappa = (m.lambda + 2.0 * m.mu / 3.0) * m.volumetric_weight();
+  const Real mu = m.mu * m.other_weight();
   Real c[3][3], ci[3][3];
   right_cauchy_green(f, c);
   const Real det_c = det3(c);
@@ -173,7 +191,7 @@ KOKKOS_INLINE_FUNCTION void second_piola_kirchhoff_derivative(const MaterialPoin
       const Real iso =
           da * (id - i1 / 3.0 * ci[p][q]) - a * (di1 / 3.0 * ci[p][q] - 2.0 * i1 / 3.0 * cdc[p][q]);
       const Real vol = kappa * j2 * ci_de * ci[p][q] - kappa * (j2 - 1.0) * cdc[p][q];
-      ds[p][q] = m.mu * iso + vol;
+      ds[p][q] = mu * iso + vol;
     }
 }
 
@@ -185,7 +203,7 @@ KOKKOS_INLINE_FUNCTION Real strain_energy_density(const MaterialPoint& m, const 
     const Real tr = e[0][0] + e[1][1] + e[2][2];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) ee += e[i][j] * e[i][j];
-    return 0.5 * m.lambda * tr * tr + m.mu * ee;
+    return m.volumetric_weight() * 0.5 * m.lambda * tr * tr + m.other_weight() * m.mu * ee;
   }
   Real f[3][3], c[3][3];
   deformation_gradient(g, f);
@@ -195,7 +213,8 @@ KOKKOS_INLINE_FUNCTION Real strain_energy_density(const MaterialPoint& m, const 
   const Real log_j = 0.5 * math::log(det_c);
   const Real a = math::exp(-2.0 / 3.0 * log_j);
   const Real i1 = c[0][0] + c[1][1] + c[2][2];
-  return 0.5 * m.mu * (a * i1 - 3.0) + 0.25 * kappa * (det_c - 1.0 - 2.0 * log_j);
+  return m.other_weight() * 0.5 * m.mu * (a * i1 - 3.0) +
+         m.volumetric_weight() * 0.25 * kappa * (det_c - 1.0 - 2.0 * log_j);
 }
 
 // P = F S
@@ -258,10 +277,14 @@ struct StructurePhysics {
   Real mass_coefficient = 0;  // 1/(theta dt^2); 0: quasi-static
   Real dt = 0;
   Real theta = 1;
+  // Selective reduced integration binds this physics twice: the volumetric terms at the centre
+  // point, everything else (inertia and loads included) at the 2x2x2 points.
+  EnergyTerms terms = EnergyTerms::All;
 
   KOKKOS_INLINE_FUNCTION MaterialPoint material(int block) const {
-    return {materials.model[block], materials.lambda[block], materials.mu[block]};
+    return {materials.model[block], materials.lambda[block], materials.mu[block], terms};
   }
+  KOKKOS_INLINE_FUNCTION bool has_loads() const { return terms != EnergyTerms::Volumetric; }
 
   KOKKOS_INLINE_FUNCTION void residual(const QpData<9>& q, const Real u[3], const Real gu[3][3],
                                        Real f0[3], Real f1[3][3]) const {
@@ -278,8 +301,9 @@ struct StructurePhysics {
         for (int j = 0; j < 3; ++j) f1[i][j] = theta * f1[i][j] + (1.0 - theta) * pn[i][j];
     }
     for (int i = 0; i < 3; ++i)
-      f0[i] = rho * mass_coefficient * (u[i] - dt * q.aux[aux_velocity_old + i]) -
-              q.aux[aux_body_force + i] - rho * materials.gravity[q.block][i];
+      f0[i] = has_loads() ? rho * mass_coefficient * (u[i] - dt * q.aux[aux_velocity_old + i]) -
+                                q.aux[aux_body_force + i] - rho * materials.gravity[q.block][i]
+                          : 0.0;
   }
 
   KOKKOS_INLINE_FUNCTION void tangent(const QpData<9>& q, const Real[3], const Real gu[3][3],
@@ -293,7 +317,7 @@ struct StructurePhysics {
     first_piola_kirchhoff_derivative(m, g, gdu, df1);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) df1[i][j] *= theta;
-    for (int i = 0; i < 3; ++i) df0[i] = rho * mass_coefficient * du[i];
+    for (int i = 0; i < 3; ++i) df0[i] = has_loads() ? rho * mass_coefficient * du[i] : 0.0;
   }
 };
 
@@ -317,6 +341,7 @@ struct StructureEnergyIntegrand {
   static constexpr int n_components = 1, n_aux = 6, n_aux_gradients = 3;
   StructureMaterials materials;
   bool kinetic = false;
+  EnergyTerms terms = EnergyTerms::All;  // of the strain energy (see StructurePhysics::terms)
   KOKKOS_INLINE_FUNCTION void residual(const QpData<6>& q, const Real[1], const Real[1][3],
                                        Real f0[1], Real f1[1][3]) const {
     f1[0][0] = f1[0][1] = f1[0][2] = 0;
@@ -326,7 +351,8 @@ struct StructureEnergyIntegrand {
       return;
     }
     f0[0] = strain_energy_density(
-        {materials.model[q.block], materials.lambda[q.block], materials.mu[q.block]}, q.grad_aux);
+        {materials.model[q.block], materials.lambda[q.block], materials.mu[q.block], terms},
+        q.grad_aux);
   }
   KOKKOS_INLINE_FUNCTION void tangent(const QpData<6>&, const Real[1], const Real[1][3],
                                       const Real[1], const Real[1][3], Real df0[1],

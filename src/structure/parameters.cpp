@@ -61,7 +61,8 @@ StructureSection read_structure_section(const MapView& fields, const MeshNames& 
   if (!node) return section;
   const Checker& c = fields.checker();
   MapView m(c, *node, fields.key("structure"),
-            {"enabled", "blocks", "mode", "plane_strain", "body_force", "boundary_conditions"});
+            {"enabled", "blocks", "mode", "plane_strain", "volumetric_integration", "body_force",
+             "boundary_conditions"});
   section.enabled = get_bool(m, "enabled", true);
   s.blocks = block_list(m, "blocks", names.blocks, "the elastic blocks");
   for (size_t i = 0; i < s.blocks.size(); ++i) {
@@ -78,6 +79,10 @@ StructureSection read_structure_section(const MapView& fields, const MeshNames& 
   s.quasi_static = get_enum(m, "mode", {{"dynamic", false}, {"quasi_static", true}},
                             std::optional<bool>(s.quasi_static));
   s.plane_strain = get_bool(m, "plane_strain", s.plane_strain);
+  s.volumetric_integration =
+      get_enum(m, "volumetric_integration",
+               {{"full", VolumetricIntegration::Full}, {"reduced", VolumetricIntegration::Reduced}},
+               std::optional<VolumetricIntegration>(s.volumetric_integration));
   section.body_force = get_expression_vector(
       m, "body_force", "a list of 3 expressions in x, y, z, t [force per volume]");
   section.boundary_conditions =

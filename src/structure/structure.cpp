@@ -96,7 +96,8 @@ StructureField::StructureField(const Mesh& mesh, const StructureSettings& settin
       settings_(settings),
       dmesh_(to_device(mesh)),
       aux_("biofsi::structure_aux", mesh.n_nodes(), StructurePhysics::n_aux),
-      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, StructurePhysics{}) {
+      op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, StructurePhysics{}),
+      centre_op_(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux_, StructurePhysics{}) {
   const int nb = static_cast<int>(mesh.block_names.size());
   if (nb > max_structure_blocks)
     throw std::invalid_argument("structure: at most " + std::to_string(max_structure_blocks) +
@@ -226,6 +227,12 @@ void StructureField::set_step_data(double dt) {
   p.theta = theta;
   p.dt = qs ? 0.0 : dt;
   p.mass_coefficient = qs ? 0.0 : 1.0 / (theta * dt * dt);
+  if (reduced_volumetric()) {
+    StructurePhysics centre = p;
+    centre.terms = EnergyTerms::Volumetric;
+    centre_op_.set_physics(centre);
+    p.terms = EnergyTerms::AllButVolumetric;
+  }
   op_.set_physics(p);
   set_aux_vector(aux_, StructurePhysics::aux_displacement_old, d_);
   set_aux_vector(aux_, StructurePhysics::aux_velocity_old, v_);
@@ -275,9 +282,19 @@ void StructureField::residual(ConstVector u, Vector r) const {
   constrained_residual(fixed_dofs_, fixed_values_, u, r);
 }
 
+void StructureField::element_residual(ConstVector u, Vector r) const {
+  op_.residual(groups_, u, r);
+  if (reduced_volumetric()) centre_op_.residual(groups_, u, r);
+}
+
+void StructureField::element_tangent(ConstVector u, ConstVector du, Vector y) const {
+  op_.apply_tangent(groups_, u, du, y);
+  if (reduced_volumetric()) centre_op_.apply_tangent(groups_, u, du, y);
+}
+
 void StructureField::residual_unconstrained(ConstVector u, Vector r) const {
   fill(r, 0);
-  op_.residual(groups_, u, r);
+  element_residual(u, r);
   for (const auto& f : faces_) f.op.residual(u, r);
 }
 
@@ -285,13 +302,14 @@ void StructureField::apply_tangent(ConstVector u, ConstVector du, Vector y) cons
   copy(du, scratch_);
   zero_constrained(fixed_dofs_, scratch_);
   fill(y, 0);
-  op_.apply_tangent(groups_, u, scratch_, y);
+  element_tangent(u, scratch_, y);
   copy_constrained(fixed_dofs_, du, y);
 }
 
 void StructureField::linearise(ConstVector u) {
   ScopedTimer t(stats_.seconds_linearise);
   linearisation_.update(op_, groups_, u);
+  if (reduced_volumetric()) centre_linearisation_.update(centre_op_, groups_, u);
 }
 
 void StructureField::apply_linearised(ConstVector du, Vector y) const {
@@ -299,12 +317,14 @@ void StructureField::apply_linearised(ConstVector du, Vector y) const {
   zero_constrained(fixed_dofs_, scratch_);
   fill(y, 0);
   apply_stored(linearisation_.tangent, scratch_, y);
+  if (reduced_volumetric()) apply_stored<Hex8Centre>(centre_linearisation_.tangent, scratch_, y);
   copy_constrained(fixed_dofs_, du, y);
 }
 
 void StructureField::diagonal(ConstVector u, Vector d) const {
   fill(d, 0);
   op_.diagonal(groups_, u, d);
+  if (reduced_volumetric()) centre_op_.diagonal(groups_, u, d);
   // Constrained rows of the tangent are identity rows.
   Vector ones("biofsi::ones", fixed_dofs_.extent(0));
   fill(ones, 1.0);
@@ -314,6 +334,7 @@ void StructureField::diagonal(ConstVector u, Vector d) const {
 void StructureField::assemble(ConstVector u, bool constrained) {
   fill(matrix_.val, 0);
   op_.assemble(groups_, u, matrix_);
+  if (reduced_volumetric()) centre_op_.assemble(groups_, u, matrix_);
   if (constrained) csr_eliminate_constrained(matrix_, fixed_);
 }
 
@@ -382,8 +403,17 @@ double StructureField::energy(bool kinetic) const {
   NodalView aux("biofsi::energy_aux", mesh_.n_nodes(), 6);
   set_aux_vector(aux, 0, d_);
   set_aux_vector(aux, 3, v_);
-  ElementOperator<StructureEnergyIntegrand> op(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux, e);
   Vector r("biofsi::energy", mesh_.n_nodes()), unused("biofsi::energy_u", mesh_.n_nodes());
+  // The energy the discrete equations minimise: with reduced volumetric integration, its
+  // volumetric term by the centre rule.
+  if (!kinetic && reduced_volumetric()) {
+    e.terms = EnergyTerms::Volumetric;
+    ElementOperator<StructureEnergyIntegrand, Hex8Centre>(dmesh_.conn, dmesh_.x,
+                                                          dmesh_.element_block, aux, e)
+        .residual(groups_, unused, r);
+    e.terms = EnergyTerms::AllButVolumetric;
+  }
+  ElementOperator<StructureEnergyIntegrand> op(dmesh_.conn, dmesh_.x, dmesh_.element_block, aux, e);
   op.residual(groups_, unused, r);
   double s = 0;
   for (double x : to_host_vector(r)) s += x;
@@ -450,9 +480,9 @@ void StructureField::predict_dirichlet(const std::string& label) {
   }
   if (norm2(w) == 0) return;
   Vector rhs("biofsi::structure_lift_rhs", n), delta("biofsi::structure_lift_delta", n);
-  op_.residual(groups_, u_, rhs);
+  element_residual(u_, rhs);
   for (const auto& f : faces_) f.op.residual(u_, rhs);
-  op_.apply_tangent(groups_, u_, w, rhs);
+  element_tangent(u_, w, rhs);
   scale(-1.0, rhs);
   zero_constrained(fixed_dofs_, rhs);
   setup_preconditioner(u_);

@@ -56,6 +56,12 @@ enum class StructureAmg {
   SystemsRigidBody  // Systems plus the rigid-body rotations as interpolation vectors (GM-2)
 };
 
+// How the volumetric term of the strain energy is integrated (kernels/structure's EnergyTerms).
+enum class VolumetricIntegration {
+  Full,    // at the 2x2x2 points like the rest: hex8 locks as nu -> 0.5
+  Reduced  // at the element centre (selective reduced integration): no volumetric locking
+};
+
 struct StructureSettings {
   // Per block index of the mesh; only the materials of active blocks are used (and checked).
   std::vector<StructureMaterial> materials;
@@ -67,6 +73,7 @@ struct StructureSettings {
   // Pseudo-2-D: hold the z displacement of every node at zero (plane strain on a one-element-thick
   // mesh).
   bool plane_strain = false;
+  VolumetricIntegration volumetric_integration = VolumetricIntegration::Full;
   Scatter scatter = Scatter::Colored;
   // Linear solves to at least 1e-4 (Eisenstat-Walker may ask for more): with the looser 1e-2 of
   // NewtonOptions, Newton oscillated on the slender Turek-Hron flag (CSM1), whose bending modes
@@ -182,6 +189,12 @@ class StructureField {
   double roundoff_floor() const;
   double energy(bool kinetic) const;  // kinetic or strain energy of the current state
   void setup_preconditioner(ConstVector u);
+  bool reduced_volumetric() const {
+    return settings_.volumetric_integration == VolumetricIntegration::Reduced;
+  }
+  // Element terms (both rules where the volumetric one is reduced), accumulated into the output.
+  void element_residual(ConstVector u, Vector r) const;
+  void element_tangent(ConstVector u, ConstVector du, Vector y) const;
 
   Mesh mesh_;
   StructureSettings settings_;
@@ -189,8 +202,11 @@ class StructureField {
   std::vector<int> elements_, active_nodes_;
   ElementGroups groups_;
   NodalView aux_;  // [d_n, v_n, b]
+  // With VolumetricIntegration::Reduced op_ integrates all but the volumetric terms and
+  // centre_op_ those; with Full, op_ everything and centre_op_ is not used.
   ElementOperator<StructurePhysics> op_;
-  Linearisation<StructurePhysics> linearisation_;
+  ElementOperator<StructurePhysics, Hex8Centre> centre_op_;
+  Linearisation<StructurePhysics> linearisation_, centre_linearisation_;
   std::vector<FaceTerm> faces_;
   std::array<SpaceTimeFunction, 3> body_force_;
   std::vector<std::pair<int, SpaceTimeFunction>> dirichlet_;  // (dof, total displacement)

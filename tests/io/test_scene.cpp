@@ -742,6 +742,16 @@ TEST(Scene, ReadsTheStructureFieldAndTheCoupling) {
   EXPECT_EQ(s.structure.settings.blocks, std::vector<std::string>{"biofilm"});
   EXPECT_FALSE(s.structure.settings.quasi_static);
   EXPECT_TRUE(s.structure.settings.plane_strain);
+  EXPECT_EQ(s.structure.settings.volumetric_integration, VolumetricIntegration::Full);
+  EXPECT_EQ(
+      parse_scene(with_structure(kFull), kFile, {"fields.structure.volumetric_integration=reduced"})
+          .structure.settings.volumetric_integration,
+      VolumetricIntegration::Reduced);
+  const std::string bad =
+      error_of(with_structure(kFull), {"fields.structure.volumetric_integration=fbar"});
+  EXPECT_TRUE(contains(bad, "fields.structure.volumetric_integration")) << bad;
+  EXPECT_TRUE(contains(bad, "fbar")) << bad;
+  EXPECT_TRUE(contains(bad, "full")) << bad;
   ASSERT_EQ(s.structure.boundary_conditions.size(), 2u);
   EXPECT_TRUE(s.structure.boundary_conditions[0].fixed);
   EXPECT_FALSE(s.structure.boundary_conditions[1].fixed);
