@@ -83,6 +83,41 @@ KOKKOS_INLINE_FUNCTION Pack<W> operator/(Pack<W> a, Real s) {
   return a;
 }
 
+// Mixed with a scalar (broadcast): a template's deduction does not convert, so each is spelled out.
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> operator+(Real s, const Pack<W>& a) {
+  return Pack<W>(s) += a;
+}
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> operator+(Pack<W> a, Real s) {
+  return a += Pack<W>(s);
+}
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> operator-(Real s, const Pack<W>& a) {
+  return Pack<W>(s) -= a;
+}
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> operator-(Pack<W> a, Real s) {
+  return a -= Pack<W>(s);
+}
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> operator/(Pack<W> a, const Pack<W>& b) {
+  for (int i = 0; i < W; ++i) a.v[i] /= b.v[i];
+  return a;
+}
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> operator/(Real s, const Pack<W>& b) {
+  Pack<W> a;
+  for (int i = 0; i < W; ++i) a.v[i] = s / b.v[i];
+  return a;
+}
+template <int W>
+KOKKOS_INLINE_FUNCTION Pack<W> abs_value(Pack<W> a) {
+  for (int i = 0; i < W; ++i) a.v[i] = a.v[i] < 0 ? -a.v[i] : a.v[i];
+  return a;
+}
+KOKKOS_INLINE_FUNCTION Real abs_value(Real a) { return math::fabs(a); }
+
 // The value type of a batch of W elements.
 template <int W>
 using SimdValue = std::conditional_t<W == 1, Real, Pack<W>>;

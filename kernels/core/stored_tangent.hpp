@@ -25,6 +25,11 @@
 // and have its tangent evaluated on SIMD packs. Against either, the on-the-fly apply recomputes
 // geometry, interpolates every auxiliary field with gradients and evaluates the physics at every
 // point (bench/README.md has the measured bytes and rates).
+//
+// The same store can hold what a Physics' residual needs of a time step's data (StepStates:
+// transport, 13 doubles per point plus the geometry), taken once when a Newton solve starts; each
+// iteration's residual and linearisation are then evaluated from it on SIMD packs, reading only
+// the unknown (case (a) of the main job: the transport's residual and linearisation 2.5x cheaper).
 #pragma once
 
 #include <vector>
@@ -109,9 +114,51 @@ struct StoredTangent : ElementBatches<W> {
 // with tangent() = tangent_at(point_state(...))): the state, the inverse Jacobian and w det J per
 // point are stored instead of the map, and the apply evaluates tangent_at on SIMD packs. The
 // fluid's dense 16 x 16 map (256 doubles per point) becomes 24 + 10.
-template <class Physics, int W = simd_width>
+// Which per-point state a StoredPointStates holds and what is evaluated from it on SIMD packs.
+//  TangentStates: Physics::PointState at a linearisation point; applied, the tangent along du.
+//  StepStates: Physics::StepState, what the residual needs of a time step's data (auxiliary
+//    fields, coefficients, stabilisation) without the unknown, declared as
+//      template <class T> struct StepState { T ...; };
+//      StepState<Real> step_state(const QpData&) const;
+//      template <class T> void residual_at(const StepState<T>&, u, grad u, f0, f1) const;
+//      template <class T> PointState<T> point_state_at(const StepState<T>&, u, grad u) const;
+//    with residual() and point_state() defined through them. Stored once per step, each Newton
+//    iteration's residual (residual_stored) and linearisation (linearise_from_step_states) are a
+//    pass over the unknown alone.
+struct TangentStates {
+  template <class Physics, class T>
+  using State = typename Physics::template PointState<T>;
+  template <class Physics, class U, class G>
+  KOKKOS_INLINE_FUNCTION static State<Physics, Real> evaluate(const Physics& p,
+                                                              const QpData<Physics::n_aux>& q,
+                                                              const U& u, const G& gu) {
+    return p.point_state(q, u, gu);
+  }
+  template <class Physics, class T, class X, class GX, class F0, class F1>
+  KOKKOS_INLINE_FUNCTION static void apply(const Physics& p, const State<Physics, T>& s, const X& x,
+                                           const GX& gx, F0& f0, F1& f1) {
+    p.tangent_at(s, x, gx, f0, f1);
+  }
+};
+struct StepStates {
+  template <class Physics, class T>
+  using State = typename Physics::template StepState<T>;
+  template <class Physics, class U, class G>
+  KOKKOS_INLINE_FUNCTION static State<Physics, Real> evaluate(const Physics& p,
+                                                              const QpData<Physics::n_aux>& q,
+                                                              const U&, const G&) {
+    return p.step_state(q);
+  }
+  template <class Physics, class T, class X, class GX, class F0, class F1>
+  KOKKOS_INLINE_FUNCTION static void apply(const Physics& p, const State<Physics, T>& s, const X& x,
+                                           const GX& gx, F0& f0, F1& f1) {
+    p.residual_at(s, x, gx, f0, f1);
+  }
+};
+
+template <class Physics, int W = simd_width, class Kind = TangentStates>
 struct StoredPointStates : ElementBatches<W> {
-  using State = typename Physics::template PointState<Real>;
+  using State = typename Kind::template State<Physics, Real>;
   static constexpr int n_state = sizeof(State) / sizeof(Real);
   static constexpr int n_entries = n_state + 10;  // state, inv J (row-major), w det J
   static_assert(sizeof(State) == n_state * sizeof(Real), "PointState must hold T members only");
@@ -359,10 +406,11 @@ struct StoredMatrixLoop {
 
 namespace detail {
 
-// Point states of one lane (element) at the linearisation point, with the geometry.
-template <class Physics, class Basis, int W>
+// Point states of one lane (element) at the linearisation point (or the step's states), with the
+// geometry.
+template <class Physics, class Basis, int W, class Kind = TangentStates>
 struct PointStateLoop {
-  using Store = StoredPointStates<Physics, W>;
+  using Store = StoredPointStates<Physics, W, Kind>;
   static constexpr int NC = Physics::n_components, NS = Store::n_state, NE = Store::n_entries;
   static constexpr int NN = Basis::n_nodes, NQ = Basis::n_qp;
 
@@ -388,7 +436,7 @@ struct PointStateLoop {
         uq[c] = g.uq[c][q];
         for (int d = 0; d < 3; ++d) gu[c][d] = g.gu[c][q][d];
       }
-      const typename Store::State state = element.physics.point_state(g.qp[q], uq, gu);
+      const typename Store::State state = Kind::evaluate(element.physics, g.qp[q], uq, gu);
       const Real* v = reinterpret_cast<const Real*>(&state);
       const int base = q * NE;
       for (int e = 0; e < NS; ++e) data(b, base + e, l) = v[e];
@@ -399,11 +447,11 @@ struct PointStateLoop {
   }
 };
 
-template <class Physics, class Basis, int W>
+template <class Physics, class Basis, int W, class Kind = TangentStates>
 struct PointStateApplyLoop {
-  using Store = StoredPointStates<Physics, W>;
+  using Store = StoredPointStates<Physics, W, Kind>;
   using T = SimdValue<W>;
-  using State = typename Physics::template PointState<T>;
+  using State = typename Kind::template State<Physics, T>;
   static constexpr int NC = Physics::n_components, NS = Store::n_state, NE = Store::n_entries;
   static constexpr int NN = Basis::n_nodes, NQ = Basis::n_qp;
   static_assert(sizeof(State) == NS * sizeof(T), "PointState must hold T members only");
@@ -445,7 +493,7 @@ struct PointStateApplyLoop {
           gdu[c][k] =
               ref[c][q][0] * inv[0][k] + ref[c][q][1] * inv[1][k] + ref[c][q][2] * inv[2][k];
       }
-      physics.tangent_at(state, duq, gdu, df0, df1);
+      Kind::template apply<Physics, T>(physics, state, duq, gdu, df0, df1);
       for (int c = 0; c < NC; ++c) {
         f0[c][q] = wdet * df0[c];
         for (int d = 0; d < 3; ++d)
@@ -454,6 +502,62 @@ struct PointStateApplyLoop {
       }
     }
     integrate_and_scatter_batch<Basis, NC>(nodes, b, f0, f1, out, atomic);
+  }
+};
+
+// The tangent's point states at u of one batch from its step states, the geometry copied over.
+template <class Physics, class Basis, int W>
+struct StepToPointStateLoop {
+  using Steps = StoredPointStates<Physics, W, StepStates>;
+  using Points = StoredPointStates<Physics, W, TangentStates>;
+  using T = SimdValue<W>;
+  using StepState = typename Physics::template StepState<T>;
+  using PointState = typename Physics::template PointState<T>;
+  static constexpr int NC = Physics::n_components, NN = Basis::n_nodes, NQ = Basis::n_qp;
+  static constexpr int NSS = Steps::n_state, NES = Steps::n_entries;
+  static constexpr int NSP = Points::n_state, NEP = Points::n_entries;
+  static_assert(sizeof(StepState) == NSS * sizeof(T), "StepState must hold T members only");
+
+  decltype(Steps::nodes) nodes;
+  decltype(Steps::data) steps;
+  decltype(Points::data) points;
+  Physics physics;
+  ConstVector u;
+  int batch_offset;
+
+  KOKKOS_INLINE_FUNCTION T load(int b, int e) const {
+    T v;
+    for (int l = 0; l < W; ++l) lane(v, l) = steps(b, e, l);
+    return v;
+  }
+  KOKKOS_INLINE_FUNCTION void store(int b, int e, const T& v) const {
+    for (int l = 0; l < W; ++l) points(b, e, l) = lane(v, l);
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+    const int b = batch_offset + i;
+    T ue[NC][NN];
+    gather_batch<NC>(nodes, b, u, ue);
+    T val[NC][NQ], ref[NC][NQ][3];
+    for (int c = 0; c < NC; ++c) interpolate_with_gradient<Basis>(ue[c], val[c], ref[c]);
+    for (int q = 0; q < NQ; ++q) {
+      StepState state;
+      T* v = reinterpret_cast<T*>(&state);
+      for (int e = 0; e < NSS; ++e) v[e] = load(b, q * NES + e);
+      T inv[3][3];
+      for (int d = 0; d < 3; ++d)
+        for (int c = 0; c < 3; ++c) inv[d][c] = load(b, q * NES + NSS + 3 * d + c);
+      T uq[NC], gu[NC][3];
+      for (int c = 0; c < NC; ++c) {
+        uq[c] = val[c][q];
+        for (int k = 0; k < 3; ++k)
+          gu[c][k] = ref[c][q][0] * inv[0][k] + ref[c][q][1] * inv[1][k] + ref[c][q][2] * inv[2][k];
+      }
+      const PointState p = physics.point_state_at(state, uq, gu);
+      const T* pv = reinterpret_cast<const T*>(&p);
+      for (int e = 0; e < NSP; ++e) store(b, q * NEP + e, pv[e]);
+      for (int e = 0; e < 10; ++e) store(b, q * NEP + NSP + e, load(b, q * NES + NSS + e));
+    }
   }
 };
 
@@ -497,11 +601,11 @@ void linearise(const ElementOperator<Physics, Basis>& op, const ElementGroups& s
                           });
 }
 
-template <class Physics, class Basis, int W>
+template <class Physics, class Basis, int W, class Kind>
 void linearise(const ElementOperator<Physics, Basis>& op, const ElementGroups& set, ConstVector u,
-               StoredPointStates<Physics, W>& store) {
+               StoredPointStates<Physics, W, Kind>& store) {
   store.physics = op.physics();
-  detail::PointStateLoop<Physics, Basis, W> loop{
+  detail::PointStateLoop<Physics, Basis, W, Kind> loop{
       op.element_loop(u, u, Vector{}), ConstIndexView{}, 0, {}, {}};
   detail::prepare_batches(set, Basis::n_nodes, Basis::n_qp * store.n_entries, store, store.data,
                           [&](ConstIndexView group, int offset, int lanes) {
@@ -539,6 +643,44 @@ void apply_stored(const StoredPointStates<Physics, W>& store, ConstVector du, Ve
   detail::PointStateApplyLoop<Physics, Basis, W> loop{
       store.nodes, store.data, store.physics, du, y, 0, store.scatter == Scatter::Atomic};
   detail::run_batches("biofsi::apply_point_states", store, loop);
+}
+
+// The step's states of `op` over `set` (what its Physics' residual needs of the step's data;
+// `any` is only gathered, the states do not depend on it).
+template <class Physics, class Basis, int W>
+void store_step_states(const ElementOperator<Physics, Basis>& op, const ElementGroups& set,
+                       ConstVector any, StoredPointStates<Physics, W, StepStates>& store) {
+  linearise(op, set, any, store);
+}
+
+// r += the residual at u, from the step's states.
+template <class Basis = Hex8, class Physics, int W>
+void residual_stored(const StoredPointStates<Physics, W, StepStates>& store, ConstVector u,
+                     Vector r) {
+  detail::PointStateApplyLoop<Physics, Basis, W, StepStates> loop{
+      store.nodes, store.data, store.physics, u, r, 0, store.scatter == Scatter::Atomic};
+  detail::run_batches("biofsi::residual_stored", store, loop);
+}
+
+// The tangent's point states at u, from the step's states (the same batches; `points` re-uses its
+// memory when the sizes match).
+template <class Basis = Hex8, class Physics, int W>
+void linearise_from_step_states(const StoredPointStates<Physics, W, StepStates>& steps,
+                                ConstVector u, StoredPointStates<Physics, W>& points) {
+  using Points = StoredPointStates<Physics, W>;
+  points.physics = steps.physics;
+  points.nodes = steps.nodes;
+  points.group_offset = steps.group_offset;
+  points.scatter = steps.scatter;
+  const int n = static_cast<int>(steps.data.extent(0));
+  const int entries = Basis::n_qp * Points::n_entries;
+  if (static_cast<int>(points.data.extent(0)) != n ||
+      static_cast<int>(points.data.extent(1)) != entries)
+    points.data = decltype(points.data)(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "biofsi::stored_tangent"), n, entries);
+  detail::StepToPointStateLoop<Physics, Basis, W> loop{steps.nodes,   steps.data, points.data,
+                                                       steps.physics, u,          0};
+  detail::run_batches("biofsi::linearise_from_step_states", steps, loop);
 }
 
 namespace detail {
@@ -585,6 +727,15 @@ struct Linearisation {
                      u.extent(0));
     Kokkos::deep_copy(point, u);
     linearise(op, set, u, tangent);
+  }
+  // The same from a store of the step's states (StepStates) taken with op's physics.
+  template <class Basis = Hex8>
+  void update_from(const StoredPointStates<Physics, W, StepStates>& steps, ConstVector u) {
+    if (point.extent(0) != u.extent(0))
+      point = Vector(Kokkos::view_alloc(Kokkos::WithoutInitializing, "biofsi::linearisation_point"),
+                     u.extent(0));
+    Kokkos::deep_copy(point, u);
+    linearise_from_step_states<Basis>(steps, u, tangent);
   }
 };
 

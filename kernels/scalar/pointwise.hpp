@@ -19,6 +19,7 @@
 #pragma once
 
 #include "kernels/core/element_loop.hpp"
+#include "kernels/core/simd.hpp"
 
 namespace biofsi {
 
@@ -35,11 +36,14 @@ struct TransportCoefficients {
 // Monod consumption R = k phi / (K + |phi|): for phi >= 0 the paper's kinetics; for phi < 0 the odd
 // extension, which is smooth at 0 (slope k/K from both sides), never divides by zero (K > 0), and
 // turns a numerical undershoot into production that pulls phi back to zero.
-KOKKOS_INLINE_FUNCTION Real monod_rate(Real k, Real K, Real phi) {
-  return k * phi / (K + math::fabs(phi));
+// T is Real or a SIMD pack of points.
+template <class T>
+KOKKOS_INLINE_FUNCTION T monod_rate(const T& k, const T& K, const T& phi) {
+  return k * phi / (K + abs_value(phi));
 }
-KOKKOS_INLINE_FUNCTION Real monod_rate_derivative(Real k, Real K, Real phi) {
-  const Real s = K + math::fabs(phi);
+template <class T>
+KOKKOS_INLINE_FUNCTION T monod_rate_derivative(const T& k, const T& K, const T& phi) {
+  const T s = K + abs_value(phi);
   return k * K / (s * s);
 }
 
@@ -85,45 +89,52 @@ struct TransportPhysics {
   Real theta = 1;
   bool supg = true;
 
-  struct Local {
-    Real D, k, K, tau, c[3], div_w;
+  // What the residual needs of the step's data at a point, independent of phi: the coefficients,
+  // the convective velocity, SUPG's tau, the material motion's divergence, phi_n and the terms of
+  // f0 and f1 made of old values and the source. Evaluated once per time step and stored with the
+  // geometry (kernels/core/stored_tangent.hpp, StepStates), it makes each Newton iteration's
+  // residual and linearisation a pass over phi alone: no auxiliary fields, no geometry, no tau.
+  // All members are T (a row of doubles in the store). k = 0 (no Monod) stores K = 1 so that a
+  // pack of points from several blocks evaluates k phi / (K + |phi|) without 0/0.
+  template <class T>
+  struct StepState {
+    T k, K, c[3], tau, D, div_w, phi_old, f0_old, f1_old[3];
   };
 
-  KOKKOS_INLINE_FUNCTION Local local(const QpData<n_aux>& q) const {
-    Local l;
-    l.D = coef.diffusivity[q.block];
-    l.k = coef.monod_rate[q.block];
-    l.K = coef.monod_half_saturation[q.block];
-    for (int i = 0; i < 3; ++i) l.c[i] = q.aux[aux_convective_velocity + i];
-    l.tau = supg ? supg_tau(l.c, q.metric, l.D, inv_dt) : 0.0;
+  KOKKOS_INLINE_FUNCTION StepState<Real> step_state(const QpData<n_aux>& q) const {
+    StepState<Real> s;
+    s.D = coef.diffusivity[q.block];
+    s.k = coef.monod_rate[q.block];
+    s.K = s.k > 0 ? coef.monod_half_saturation[q.block] : 1.0;
+    for (int i = 0; i < 3; ++i) s.c[i] = q.aux[aux_convective_velocity + i];
+    s.tau = supg ? supg_tau(s.c, q.metric, s.D, inv_dt) : 0.0;
     const auto& gw = q.grad_aux;
     constexpr int w = aux_material_velocity;
-    l.div_w = coef.material_motion[q.block] * (gw[w][0] + gw[w + 1][1] + gw[w + 2][2]);
-    return l;
+    s.div_w = coef.material_motion[q.block] * (gw[w][0] + gw[w + 1][1] + gw[w + 2][2]);
+    s.phi_old = q.aux[aux_phi_old];
+    const Real* g_n = q.grad_aux[aux_phi_old];
+    Real conv_n = 0;
+    for (int i = 0; i < 3; ++i) conv_n += s.c[i] * g_n[i];
+    s.f0_old = (1 - theta) * (conv_n + monod_rate(s.k, s.K, s.phi_old) + s.phi_old * s.div_w) -
+               q.aux[aux_source];
+    for (int i = 0; i < 3; ++i) s.f1_old[i] = (1 - theta) * s.D * g_n[i];
+    return s;
   }
 
-  KOKKOS_INLINE_FUNCTION Real reaction(const Local& l, Real phi) const {
-    return l.k > 0 ? monod_rate(l.k, l.K, phi) : 0.0;
-  }
-  KOKKOS_INLINE_FUNCTION Real reaction_derivative(const Local& l, Real phi) const {
-    return l.k > 0 ? monod_rate_derivative(l.k, l.K, phi) : 0.0;
+  template <class T>
+  KOKKOS_INLINE_FUNCTION void residual_at(const StepState<T>& s, const T u[1], const T gu[1][3],
+                                          T f0[1], T f1[1][3]) const {
+    T conv = 0;
+    for (int i = 0; i < 3; ++i) conv += s.c[i] * gu[0][i];
+    f0[0] = (u[0] - s.phi_old) * inv_dt +
+            theta * (conv + monod_rate(s.k, s.K, u[0]) + u[0] * s.div_w) + s.f0_old;
+    for (int i = 0; i < 3; ++i)
+      f1[0][i] = theta * s.D * gu[0][i] + s.f1_old[i] + s.tau * s.c[i] * f0[0];
   }
 
   KOKKOS_INLINE_FUNCTION void residual(const QpData<n_aux>& q, const Real u[1], const Real gu[1][3],
                                        Real f0[1], Real f1[1][3]) const {
-    const Local l = local(q);
-    const Real phi_n = q.aux[aux_phi_old];
-    const Real* g_n = q.grad_aux[aux_phi_old];
-    Real conv = 0, conv_n = 0;
-    for (int i = 0; i < 3; ++i) {
-      conv += l.c[i] * gu[0][i];
-      conv_n += l.c[i] * g_n[i];
-    }
-    f0[0] = (u[0] - phi_n) * inv_dt + theta * (conv + reaction(l, u[0])) +
-            (1 - theta) * (conv_n + reaction(l, phi_n)) - q.aux[aux_source] +
-            (theta * u[0] + (1 - theta) * phi_n) * l.div_w;
-    for (int i = 0; i < 3; ++i)
-      f1[0][i] = l.D * (theta * gu[0][i] + (1 - theta) * g_n[i]) + l.tau * l.c[i] * f0[0];
+    residual_at(step_state(q), u, gu, f0, f1);
   }
 
   // What the tangent needs of the linearisation point, per point: the coefficient of du in df0
@@ -136,15 +147,20 @@ struct TransportPhysics {
     T value, c[3], tau, diffusion;
   };
 
+  template <class T>
+  KOKKOS_INLINE_FUNCTION PointState<T> point_state_at(const StepState<T>& s, const T u[1],
+                                                      const T[1][3]) const {
+    PointState<T> p;
+    p.value = inv_dt + theta * (monod_rate_derivative(s.k, s.K, u[0]) + s.div_w);
+    for (int i = 0; i < 3; ++i) p.c[i] = s.c[i];
+    p.tau = s.tau;
+    p.diffusion = theta * s.D;
+    return p;
+  }
+
   KOKKOS_INLINE_FUNCTION PointState<Real> point_state(const QpData<n_aux>& q, const Real u[1],
-                                                      const Real[1][3]) const {
-    const Local l = local(q);
-    PointState<Real> s;
-    s.value = inv_dt + theta * (reaction_derivative(l, u[0]) + l.div_w);
-    for (int i = 0; i < 3; ++i) s.c[i] = l.c[i];
-    s.tau = l.tau;
-    s.diffusion = theta * l.D;
-    return s;
+                                                      const Real gu[1][3]) const {
+    return point_state_at(step_state(q), u, gu);
   }
 
   // The tangent at a point from its state. T is Real or a SIMD pack of points.

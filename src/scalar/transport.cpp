@@ -189,6 +189,13 @@ void TransportField::residual(ConstVector phi, Vector r) const {
   constrained_residual(fixed_dofs_, fixed_values_, phi, r);
 }
 
+void TransportField::residual_of_step(ConstVector phi, Vector r) const {
+  fill(r, 0);
+  residual_stored(step_states_, phi, r);
+  for (const auto& f : faces_) f.op.residual(phi, r);
+  constrained_residual(fixed_dofs_, fixed_values_, phi, r);
+}
+
 void TransportField::apply_tangent(ConstVector phi, ConstVector dphi, Vector y) const {
   copy(dphi, scratch_);
   zero_constrained(fixed_dofs_, scratch_);
@@ -239,11 +246,18 @@ NewtonResult TransportField::advance(const std::string& label, double abs_floor,
   NewtonOptions options = settings_.newton;
   options.reuse_preconditioner = options.reuse_preconditioner && !fresh_preconditioner;
   options.abs_tol = std::max(options.abs_tol, abs_floor);
+  {
+    // Nothing the element terms read of the step (auxiliary fields, coefficients, mesh) changes
+    // within the solve: one pass over them here, then every residual and linearisation of its
+    // Newton iterations is a pass over phi alone.
+    ScopedTimer t(stats_.seconds_residual);
+    store_step_states(op_, groups_, phi_, step_states_);
+  }
   NewtonSystem sys =
-      timed_newton_system([this](ConstVector u, Vector r) { residual(u, r); },
+      timed_newton_system([this](ConstVector u, Vector r) { residual_of_step(u, r); },
                           [this](ConstVector u) {
                             ScopedTimer t(stats_.seconds_linearise);
-                            linearise(u);
+                            linearisation_.update_from(step_states_, u);
                           },
                           [this](ConstVector du, Vector y) { apply_linearised(du, y); },
                           stats_.seconds_residual, stats_.seconds_tangent);

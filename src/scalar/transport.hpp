@@ -135,6 +135,8 @@ class TransportField {
 
   // fresh_preconditioner: set the AMG hierarchy up at every Newton iteration.
   NewtonResult advance(const std::string& label, double abs_floor, bool fresh_preconditioner);
+  // residual() from step_states_, valid within advance()'s solve.
+  void residual_of_step(ConstVector phi, Vector r) const;
   NewtonResult step_once(double dt, double theta, const std::string& label,
                          bool fresh_preconditioner);
   // One step of dt from phi_old_ to phi_ (phi_ the first iterate) with the given coefficients.
@@ -166,6 +168,9 @@ class TransportField {
   SpaceTimeFunction source_;
   ElementOperator<TransportPhysics> op_;
   Linearisation<TransportPhysics> linearisation_;
+  // The step's data at the quadrature points, stored when a Newton solve starts (advance): its
+  // residuals and linearisations read them instead of the auxiliary fields and the geometry.
+  StoredPointStates<TransportPhysics, simd_width, StepStates> step_states_;
   std::vector<FaceTerm> faces_;
   std::map<int, SpaceTimeFunction> dirichlet_;  // node -> value (later conditions win)
   Kokkos::View<char*, MemSpace> fixed_;

@@ -5,7 +5,8 @@
 // both scatter policies and both storage widths (SIMD batches of simd_width elements, and one
 // element per batch as on a GPU): apply, diagonal and assembled matrix; and the point-state stores
 // of transport, the fluid (for every linearisation) and mesh motion (the tangent re-evaluated from
-// a stored per-point state).
+// a stored per-point state); and transport's step states (the residual and the linearisation at
+// any phi from data stored once per time step).
 //
 // Tolerance 1e-12 relative to the largest entry: the stored and the on-the-fly products evaluate
 // the same sums in another order (the inverse Jacobian folded into the stored matrix instead of
@@ -17,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -172,6 +174,58 @@ TEST(StoredTangent, TransportEqualsOnTheFlyAndAssembled) {
       "test::u");
   expect_stored_equals_on_the_fly(m, op, u, direction(m, 1));
   expect_point_states_equal_on_the_fly(m, op, u, direction(m, 1));
+}
+
+// The step's states (stored once per time step) give the residual at any phi, and the tangent's
+// point states at any phi, equal to the on-the-fly loop's: stored at u, evaluated at another u2
+// with negative values (Monod's odd extension), with a source and a deforming block.
+TEST(StoredTangent, TransportStepStatesGiveResidualAndLinearisationAtAnyPhi) {
+  const SmallMesh m = distorted_mesh();
+  TransportPhysics p;
+  p.coef.diffusivity[0] = 1e-2, p.coef.diffusivity[1] = 5e-3;
+  p.coef.monod_rate[1] = 1.0, p.coef.monod_half_saturation[1] = 0.1;
+  p.coef.material_motion[1] = 1.0;
+  p.inv_dt = 10;
+  p.theta = 0.66;
+  const NodalView aux =
+      auxiliary(m, TransportPhysics::n_aux, [](int c, double x, double y, double z) {
+        if (c == 0) return 0.5 + 0.3 * std::sin(2 * x + y);
+        if (c < 4) return 0.05 * std::cos(x + 2 * y - z + c);
+        if (c < 7) return std::sin(1.3 * x + c) * std::cos(y - 0.4 * z);
+        return 0.2 * std::cos(3 * x - z);
+      });
+  const ElementOperator<TransportPhysics> op(m.conn, m.x, m.block, aux, p);
+  const Vector u = nodal(
+      m, 1, [](int, double x, double y, double z) { return 0.4 + 0.3 * std::cos(2 * x - y + z); },
+      "test::u");
+  const Vector u2 = nodal(
+      m, 1, [](int, double x, double y, double z) { return 0.3 * std::sin(4 * x + y - 2 * z); },
+      "test::u2");
+  const Vector du = direction(m, 1);
+  const int n = m.n_nodes();
+  for (Scatter scatter : {Scatter::Atomic, Scatter::Colored}) {
+    const ElementGroups groups = element_groups(m, scatter);
+    Vector r_fly("test::r_fly", n), y_fly("test::y_fly", n);
+    op.residual(groups, u2, r_fly);
+    op.apply_tangent(groups, u2, du, y_fly);
+    auto check = [&](auto& steps, auto& points) {
+      store_step_states(op, groups, u, steps);
+      Vector r("test::r", n), y("test::y", n);
+      residual_stored(steps, u2, r);
+      linearise_from_step_states(steps, u2, points);
+      apply_stored(points, du, y);
+      const double dr = relative_difference(r, r_fly), dy = relative_difference(y, y_fly);
+      std::printf("[ measured ] step states: residual %.1e, tangent %.1e\n", dr, dy);
+      EXPECT_LT(dr, 1e-12);
+      EXPECT_LT(dy, 1e-12);
+    };
+    StoredPointStates<TransportPhysics, simd_width, StepStates> steps;
+    StoredPointStates<TransportPhysics, simd_width> points;
+    check(steps, points);
+    StoredPointStates<TransportPhysics, 1, StepStates> steps1;
+    StoredPointStates<TransportPhysics, 1> points1;
+    check(steps1, points1);
+  }
 }
 
 TEST(StoredTangent, FluidEqualsOnTheFlyAndAssembled) {
