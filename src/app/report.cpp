@@ -134,8 +134,11 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
   std::ostringstream o;
   o << std::setprecision(6);
   o << "summary\n"
-    << "  scene: " << sim.scene.file << "\n"
-    << "  nodes " << sim.mesh.n_nodes() << ", elements " << sim.mesh.n_elements() << "\n"
+    << "  scene: " << sim.scene.file << "\n";
+  if (!sim.scene.fidelity.level.empty())
+    o << "  fidelity: " << sim.scene.fidelity.level << " (mesh resolution x"
+      << sim.scene.fidelity.mesh_factor << ")\n";
+  o << "  nodes " << sim.mesh.n_nodes() << ", elements " << sim.mesh.n_elements() << "\n"
     << "  scalar: " << s.steps << " solves, " << s.newton_iterations << " Newton and "
     << s.krylov_iterations << " Krylov iterations, " << s.preconditioner_setups
     << " preconditioner set-ups, " << s.cut_steps << " time steps cut into sub-steps, "

@@ -662,6 +662,7 @@ int run_checked(const RunOptions& options) {
         "results to (or no --out: the scene's output.directory)");
   const std::filesystem::path out_dir = options.out_dir ? *options.out_dir : scene.output.directory;
   std::cout << "biofsi: scene " << scene.file << ", output " << out_dir.string() << "\n";
+  std::cout << describe_fidelity(scene.fidelity);
   print_active_fields(scene);
   if (!scene.scalar.enabled && !scene.fluid.enabled && !scene.structure.enabled) {
     std::cout << "nothing to solve: every field is off\n";

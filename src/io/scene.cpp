@@ -501,8 +501,8 @@ void check_growth_interface(const Checker& c, const Node& growth, Mesh mesh, con
 }
 
 Scene read_scene(const Node& root, const Checker& c) {
-  const std::vector<std::string> top = {"mesh",   "materials", "fields", "time",       "solver",
-                                        "output", "growth",    "fsi",    "mesh_motion"};
+  const std::vector<std::string> top = {"mesh",   "materials", "fields", "time",        "solver",
+                                        "output", "growth",    "fsi",    "mesh_motion", "fidelity"};
   if (!root.IsDefined() || root.IsNull())
     c.fail(root, "", "the scene is empty", std::nullopt, "a map with keys " + join_list(top));
   MapView m(c, root, "", top, "a map with keys " + join_list(top));
@@ -668,7 +668,10 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file,
   for (const auto& o : overrides) apply_override(root, o, origins);
   const Checker checker(file, origins);
   try {
-    return read_scene(root, checker);
+    const FidelityReport fidelity = apply_fidelity(root, checker);
+    Scene scene = read_scene(root, checker);
+    scene.fidelity = fidelity;
+    return scene;
   } catch (const YAML::Exception& e) {
     // Every access above is checked; this is a safety net so no raw yaml-cpp error escapes.
     throw SceneError(file + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);

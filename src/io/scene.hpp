@@ -12,6 +12,7 @@
 #include "coupling/parameters.hpp"
 #include "fluid/parameters.hpp"
 #include "growth/parameters.hpp"
+#include "io/fidelity.hpp"
 #include "io/scene_reader.hpp"
 #include "mesh/mesh.hpp"
 #include "scalar/parameters.hpp"
@@ -73,7 +74,8 @@ struct OutputSpec {
 };
 
 struct Scene {
-  std::string file;  // path the scene was read from
+  std::string file;         // path the scene was read from
+  FidelityReport fidelity;  // the `fidelity` preset, already applied to what follows
   // mesh: type "box" (the structured multi-block generator, `box`) or "gmsh" (a MSH 4.1 file,
   // `gmsh_file` resolved against the scene's folder; a 2-D file is extruded by `gmsh_thickness`).
   std::string mesh_type = "box";

@@ -264,3 +264,30 @@ TEST(FlowScene, RestartMovesAStructureCheckpointOntoAFinerMesh) {
       moved_onto_refine_2("turek_hron/csm3.yaml", {}, 11, "A_displacement_y");
   EXPECT_NEAR(moved, coarse, 0.005 * std::abs(coarse));
 }
+
+// The 1-D Monod film of the speed-accuracy study (cases/biofilm1d/monod_column.yaml) through the
+// driver, as written and with `fidelity: draft` (half the elements): the flux density into the
+// film against the exact Monod first integral, J = 0.0897731 (S_min = 0.82106 by shooting the
+// ODE, bench/run_tradeoff). Second order in h: measured +1.3e-5 relative at ny 16 and +5.4e-5 at
+// ny 8, so 1e-4 holds both and a wrong flux, preset or scene would not.
+TEST(FlowScene, MonodColumnGivesTheExactFluxAsWrittenAndAsADraft) {
+  for (const std::string level : {"", "draft"}) {
+    SCOPED_TRACE(level);
+    const fs::path out = scratch_dir("app_monod_column" + level);
+    std::vector<std::string> sets;
+    if (!level.empty()) sets.push_back("fidelity=" + level);
+    const RunOutput r = run_quietly(case_run("biofilm1d/monod_column.yaml", out, sets));
+    ASSERT_EQ(r.rc, 0) << r.err << r.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.out, m, std::regex("density min ([-0-9.e+]+) max"))) << r.out;
+    EXPECT_NEAR(std::stod(m[1]), 0.0897731, 1e-4 * 0.0897731);
+    if (!level.empty()) {
+      EXPECT_NE(r.out.find("mesh.blocks[0].ny: 16 -> 8"), std::string::npos) << r.out;
+      EXPECT_NE(r.out.find("expected: flux within"), std::string::npos) << r.out;
+      std::ifstream summary(out / "summary.txt");
+      std::stringstream text;
+      text << summary.rdbuf();
+      EXPECT_NE(text.str().find("fidelity: draft"), std::string::npos) << text.str();
+    }
+  }
+}

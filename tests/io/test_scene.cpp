@@ -1023,5 +1023,76 @@ TEST(Scene, HoldsTheFlowsInflowAndOutflowFixedInTheCoupledSolveUnlessTheWallsDec
   EXPECT_TRUE(contains(bad, "expected one of fixed, walls")) << bad;
 }
 
+// fidelity: draft | standard | fine scales the mesh's division counts (after --set) and reports
+// what it changed; a pseudo-2-D mesh stays one element thick; a Gmsh mesh's refine parameter
+// scales; a bad value stops with the file, key, value and the allowed ones.
+TEST(Scene, FidelityPresetScalesTheMeshResolution) {
+  const Scene standard = parse_scene(kFull, kFile);
+  EXPECT_TRUE(standard.fidelity.level.empty());
+  EXPECT_EQ(standard.box.nx, 4);
+  const Scene draft = parse_scene(kFull, kFile, {"fidelity=draft"});
+  EXPECT_EQ(draft.fidelity.level, "draft");
+  EXPECT_EQ(draft.box.nx, 2);
+  EXPECT_EQ(draft.box.nz, 1);
+  ASSERT_EQ(draft.box.blocks.size(), 2u);
+  EXPECT_EQ(draft.box.blocks[0].ny, 1);
+  EXPECT_EQ(draft.box.blocks[1].ny, 2);
+  EXPECT_EQ(draft.fidelity.changes.size(), 3u);
+  EXPECT_TRUE(contains(draft.fidelity.expected, "no error band is known for scene.yaml"))
+      << draft.fidelity.expected;
+  const Scene fine = parse_scene(kFull, kFile, {"fidelity=fine", "mesh.nz=3"});
+  EXPECT_EQ(fine.box.nx, 8);
+  EXPECT_EQ(fine.box.nz, 6);  // the --set value is scaled too: the preset comes after overrides
+  EXPECT_EQ(fine.box.blocks[0].ny, 4);
+  EXPECT_EQ(fine.box.blocks[1].ny, 8);
+  const Scene same = parse_scene(kFull, kFile, {"fidelity=standard"});
+  EXPECT_EQ(same.box.nx, 4);
+  EXPECT_TRUE(same.fidelity.changes.empty());
+
+  YAML::Node gmsh = YAML::Load(
+      "mesh: {type: gmsh, file: m.geo, parameters: {refine: 3}}\n"
+      "fidelity: draft\n");
+  const scene_input::Checker checker(kFile, {});
+  const FidelityReport r = apply_fidelity(gmsh, checker);
+  EXPECT_EQ(gmsh["mesh"]["parameters"]["refine"].as<double>(), 1.5);
+  ASSERT_EQ(r.changes.size(), 1u);
+  EXPECT_EQ(r.changes[0], "mesh.parameters.refine: 3 -> 1.5");
+
+  // An inner loop that runs until stationary (growth, no transient flow): draft takes 4x longer
+  // steps (as many fewer, rounded up) to a 100x looser tolerance, fine a 100x tighter one; a
+  // transient flow or a fixed inner loop keeps its steps.
+  const std::string growth_scene =
+      "mesh: {type: box, nx: 40}\n"
+      "time: {dt: 1.0, steps: 10, steady_tolerance: 1.0e-6}\n"
+      "growth: {interface: biofilm_fluid}\n";
+  const scene_input::Checker c_scene("cases/coroneo2013/c_shear_quasi_steady.yaml", {});
+  YAML::Node draft_growth = YAML::Load(growth_scene + "fidelity: draft\n");
+  const FidelityReport d = apply_fidelity(draft_growth, c_scene);
+  EXPECT_EQ(draft_growth["time"]["dt"].as<double>(), 4.0);
+  EXPECT_EQ(draft_growth["time"]["steps"].as<int>(), 3);
+  EXPECT_DOUBLE_EQ(draft_growth["time"]["steady_tolerance"].as<double>(), 1e-4);
+  EXPECT_TRUE(contains(d.expected, "3.4%")) << d.expected;
+  YAML::Node fine_growth = YAML::Load(growth_scene + "fidelity: fine\n");
+  apply_fidelity(fine_growth, c_scene);
+  EXPECT_EQ(fine_growth["time"]["dt"].as<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(fine_growth["time"]["steady_tolerance"].as<double>(), 1e-8);
+  const std::string time = "time: {dt: 1.0, steps: 10, steady_tolerance: 1.0e-6}\n";
+  for (const std::string& kept :
+       {time + "growth: {interface: biofilm_fluid}\nfields: {fluid: {mode: transient}}\n",
+        time + "growth: {interface: biofilm_fluid, inner_loop: fixed_steps}\n", time}) {
+    YAML::Node n = YAML::Load("mesh: {type: box, nx: 40}\n" + kept + "fidelity: draft\n");
+    apply_fidelity(n, checker);
+    EXPECT_EQ(n["time"]["dt"].as<double>(), 1.0) << kept;
+    EXPECT_EQ(n["time"]["steps"].as<int>(), 10) << kept;
+    EXPECT_EQ(n["mesh"]["nx"].as<int>(), 20) << kept;
+  }
+
+  const std::string bad = error_of(kFull, {"fidelity=coarse"});
+  EXPECT_TRUE(contains(bad,
+                       "fidelity: unknown value; got 'coarse', expected one of draft, "
+                       "standard, fine"))
+      << bad;
+}
+
 }  // namespace
 }  // namespace biofsi
