@@ -125,7 +125,10 @@ void MeshMotion::add_residual(ConstVector d, Vector r) const { op_.residual(grou
 
 void MeshMotion::add_linearised(ConstVector d, Vector y) const { apply_stored(stored_, d, y); }
 
-void MeshMotion::setup_preconditioner() { amg_.setup(matrix_); }
+void MeshMotion::setup_preconditioner() {
+  amg_.setup(matrix_);
+  solve_reuse_.invalidate();  // amg_ now holds another problem's hierarchy
+}
 
 void MeshMotion::residual(const Mesh& mesh, ConstVector d, Vector r) {
   bind(mesh);
@@ -168,11 +171,22 @@ std::vector<Point> MeshMotion::solve(const Mesh& mesh, const MeshDisplacementBc&
     apply_stored(stored_, scratch, y);
     copy_constrained(fixed_dofs, x, y);
   };
-  fill(matrix_.val, 0);
-  op.assemble(groups, d, matrix_);
-  csr_eliminate_constrained(matrix_, fixed);
-  amg_.setup(matrix_);
+  std::vector<int> constrained;
+  for (const auto& entry : constraints.value) constrained.push_back(entry.first);
+  if (constrained != solve_constraints_) solve_reuse_.invalidate();
+  const bool set_up = !solve_reuse_.still_serves(settings_.krylov.max_iterations);
+  if (set_up) {
+    fill(matrix_.val, 0);
+    op.assemble(groups, d, matrix_);
+    csr_eliminate_constrained(matrix_, fixed);
+    amg_.setup(matrix_);
+    solve_reuse_.record_setup();
+    solve_constraints_ = std::move(constrained);
+  } else {
+    solve_reuse_.record_reuse();
+  }
   const KrylovResult kr = cg(apply, amg_.as_function(), rhs, delta, settings_.krylov);
+  solve_reuse_.record_solve(kr.iterations);
   if (!kr.converged) {
     std::ostringstream why;
     why << "CG " << kr.reason << " after " << kr.iterations << " iterations (residual "
@@ -191,6 +205,7 @@ std::vector<Point> MeshMotion::solve(const Mesh& mesh, const MeshDisplacementBc&
   }
   if (result) {
     result->krylov_iterations = kr.iterations;
+    result->preconditioner_set_up = set_up;
     result->max_displacement = max_d;
   }
   return out;

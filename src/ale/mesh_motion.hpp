@@ -33,7 +33,7 @@ struct MeshMotionSettings {
   std::vector<std::string> fixed_walls = {"bottom", "top"};
   InflowOutflow inflow_outflow = InflowOutflow::Fixed;
   double min_quality = 0.02;  // smallest scaled Jacobian accepted after a move, in (0, 1)
-  KrylovOptions krylov{1e-10, 0.0, 500, 50};
+  KrylovOptions krylov{1e-12, 0.0, 500, 50};
   Scatter scatter = Scatter::Colored;
 };
 
@@ -55,6 +55,7 @@ MeshDisplacementBc wall_constraints(const Mesh& mesh, const std::vector<std::str
 
 struct MeshMotionResult {
   int krylov_iterations = 0;
+  bool preconditioner_set_up = false;  // false: the last solve's AMG hierarchy served again
   double max_displacement = 0;
 };
 
@@ -113,6 +114,11 @@ class MeshMotion {
   FieldStoreOf<PseudoElasticPhysics> stored_;  // op_'s tangent on the current coordinates
   CsrMatrix matrix_;
   BoomerAmg amg_;
+  // The age of amg_ in solve(): a growth step moves the mesh by a fraction of an element, so the
+  // hierarchy of an earlier step keeps serving until CG needs markedly more iterations than right
+  // after its set-up, or the constraints differ.
+  PreconditionerReuse solve_reuse_;
+  std::vector<int> solve_constraints_;  // the constrained dofs amg_ was set up with
 };
 
 // Range of the scaled Jacobian per block.

@@ -201,7 +201,8 @@ std::string summarise(const Simulation& sim, const RunTotals& totals, double sec
   }
   if (sim.scene.growth.enabled)
     o << "; growth + mesh motion " << totals.seconds_growth << " (" << totals.steps << " steps, "
-      << totals.mesh_krylov_iterations << " CG iterations)";
+      << totals.mesh_krylov_iterations << " CG iterations, " << totals.mesh_amg_setups
+      << " AMG set-ups)";
   o << "\n";
   if (sim.scene.growth.enabled)
     o << "  mesh quality (scaled Jacobian) over the run: [" << totals.min_quality << ", "

@@ -41,7 +41,8 @@ int flux_block(const Mesh& mesh, const std::string& set);
 
 // What a run adds up besides the fields' own statistics.
 struct RunTotals {
-  int steps = 0, inner_steps = 0, stationary_loops = 0, mesh_krylov_iterations = 0;
+  int steps = 0, inner_steps = 0, stationary_loops = 0, mesh_krylov_iterations = 0,
+      mesh_amg_setups = 0;
   double seconds_growth = 0;
   double min_quality = 1, max_quality = -1;
   // The growth interface's motion [mm]: the largest of one growth step, and the largest distance

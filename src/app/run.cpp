@@ -235,6 +235,7 @@ class Driver {
         sim_.take_grown_reference(grown, g.reference_update);
         totals_.seconds_growth += std::chrono::duration<double>(Clock::now() - t0).count();
         totals_.mesh_krylov_iterations += rep.krylov_iterations;
+        totals_.mesh_amg_setups += rep.preconditioner_set_up ? 1 : 0;
         totals_.largest_interface_step =
             std::max(totals_.largest_interface_step, rep.max_interface_displacement);
         totals_.interface_moved = largest_distance(sim_.mesh, gamma, gamma_start);

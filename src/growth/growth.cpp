@@ -65,6 +65,7 @@ GrowthStepReport grow(Mesh& mesh, MeshMotion& motion, const GrowthSettings& s,
 
   GrowthStepReport r;
   r.krylov_iterations = mr.krylov_iterations;
+  r.preconditioner_set_up = mr.preconditioner_set_up;
   r.quality = mesh_quality_by_block(moved);
   for (size_t b = 0; b < r.quality.size(); ++b)
     if (r.quality[b].min < s.mesh_motion.min_quality) {

@@ -53,7 +53,8 @@ struct GrowthStepReport {
   double max_interface_displacement = 0;
   double mean_interface_displacement = 0;  // along y, the wall-normal direction of the box cases
   int krylov_iterations = 0;
-  std::vector<QualityRange> quality;  // per block, after the move
+  bool preconditioner_set_up = false;  // the mesh motion's AMG (MeshMotionResult)
+  std::vector<QualityRange> quality;   // per block, after the move
 };
 
 // Moves `mesh` by one growth step. On a move that would leave an element below min_quality (or
