@@ -406,6 +406,29 @@ struct StoredMatrixLoop {
 
 namespace detail {
 
+// Entry e of batch b of a [batch][entry][lane] view as a pack of its lanes.
+template <class T, class Data>
+KOKKOS_INLINE_FUNCTION T load_lanes(const Data& data, int b, int e) {
+  constexpr int W = static_cast<int>(Data::static_extent(2));
+  T v;
+  for (int l = 0; l < W; ++l) lane(v, l) = data(b, e, l);
+  return v;
+}
+
+// Point q of batch b of a point-state store holding NS state entries and NE in all: the state,
+// the inverse Jacobian and w det J.
+template <int NS, int NE, class State, class T, class Data>
+KOKKOS_INLINE_FUNCTION void load_point(const Data& data, int b, int q, State& state, T (&inv)[3][3],
+                                       T& wdet) {
+  static_assert(sizeof(State) == NS * sizeof(T), "a state must hold T members only");
+  T* v = reinterpret_cast<T*>(&state);
+  const int base = q * NE;
+  for (int e = 0; e < NS; ++e) v[e] = load_lanes<T>(data, b, base + e);
+  for (int d = 0; d < 3; ++d)
+    for (int c = 0; c < 3; ++c) inv[d][c] = load_lanes<T>(data, b, base + NS + 3 * d + c);
+  wdet = load_lanes<T>(data, b, base + NS + 9);
+}
+
 // Point states of one lane (element) at the linearisation point (or the step's states), with the
 // geometry.
 template <class Physics, class Basis, int W, class Kind = TangentStates>
@@ -464,12 +487,6 @@ struct PointStateApplyLoop {
   int batch_offset;
   bool atomic;
 
-  KOKKOS_INLINE_FUNCTION T load(int b, int e) const {
-    T v;
-    for (int l = 0; l < W; ++l) lane(v, l) = data(b, e, l);
-    return v;
-  }
-
   KOKKOS_INLINE_FUNCTION void operator()(int i) const {
     const int b = batch_offset + i;
     T de[NC][NN];
@@ -478,14 +495,9 @@ struct PointStateApplyLoop {
     for (int c = 0; c < NC; ++c) interpolate_with_gradient<Basis>(de[c], val[c], ref[c]);
     T f0[NC][NQ], f1[NC][NQ][3];
     for (int q = 0; q < NQ; ++q) {
-      const int base = q * NE;
       State state;
-      T* v = reinterpret_cast<T*>(&state);
-      for (int e = 0; e < NS; ++e) v[e] = load(b, base + e);
-      T inv[3][3];
-      for (int d = 0; d < 3; ++d)
-        for (int c = 0; c < 3; ++c) inv[d][c] = load(b, base + NS + 3 * d + c);
-      const T wdet = load(b, base + NS + 9);
+      T inv[3][3], wdet;
+      load_point<NS, NE>(data, b, q, state, inv, wdet);
       T duq[NC], gdu[NC][3], df0[NC], df1[NC][3];
       for (int c = 0; c < NC; ++c) {
         duq[c] = val[c][q];
@@ -525,11 +537,6 @@ struct StepToPointStateLoop {
   ConstVector u;
   int batch_offset;
 
-  KOKKOS_INLINE_FUNCTION T load(int b, int e) const {
-    T v;
-    for (int l = 0; l < W; ++l) lane(v, l) = steps(b, e, l);
-    return v;
-  }
   KOKKOS_INLINE_FUNCTION void store(int b, int e, const T& v) const {
     for (int l = 0; l < W; ++l) points(b, e, l) = lane(v, l);
   }
@@ -542,11 +549,8 @@ struct StepToPointStateLoop {
     for (int c = 0; c < NC; ++c) interpolate_with_gradient<Basis>(ue[c], val[c], ref[c]);
     for (int q = 0; q < NQ; ++q) {
       StepState state;
-      T* v = reinterpret_cast<T*>(&state);
-      for (int e = 0; e < NSS; ++e) v[e] = load(b, q * NES + e);
-      T inv[3][3];
-      for (int d = 0; d < 3; ++d)
-        for (int c = 0; c < 3; ++c) inv[d][c] = load(b, q * NES + NSS + 3 * d + c);
+      T inv[3][3], wdet;
+      load_point<NSS, NES>(steps, b, q, state, inv, wdet);
       T uq[NC], gu[NC][3];
       for (int c = 0; c < NC; ++c) {
         uq[c] = val[c][q];
@@ -556,7 +560,9 @@ struct StepToPointStateLoop {
       const PointState p = physics.point_state_at(state, uq, gu);
       const T* pv = reinterpret_cast<const T*>(&p);
       for (int e = 0; e < NSP; ++e) store(b, q * NEP + e, pv[e]);
-      for (int e = 0; e < 10; ++e) store(b, q * NEP + NSP + e, load(b, q * NES + NSS + e));
+      for (int d = 0; d < 3; ++d)
+        for (int c = 0; c < 3; ++c) store(b, q * NEP + NSP + 3 * d + c, inv[d][c]);
+      store(b, q * NEP + NSP + 9, wdet);
     }
   }
 };

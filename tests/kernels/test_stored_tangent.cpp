@@ -150,25 +150,30 @@ SmallMesh distorted_mesh() {
   return make_small_mesh(5, 4, 3, length, 0.04);
 }
 
-}  // namespace
-
-TEST(StoredTangent, TransportEqualsOnTheFlyAndAssembled) {
-  const SmallMesh m = distorted_mesh();
+// Transport with SUPG, Monod and a deforming block on the distorted mesh; aux: phi_n, material
+// velocity w, convective velocity c and a source of the given amplitude.
+ElementOperator<TransportPhysics> transport_operator(const SmallMesh& m, double source) {
   TransportPhysics p;
   p.coef.diffusivity[0] = 1e-2, p.coef.diffusivity[1] = 5e-3;
   p.coef.monod_rate[1] = 1.0, p.coef.monod_half_saturation[1] = 0.1;
   p.coef.material_motion[1] = 1.0;
   p.inv_dt = 10;
   p.theta = 0.66;
-  // aux: phi_n, material velocity w, convective velocity c, source
   const NodalView aux =
-      auxiliary(m, TransportPhysics::n_aux, [](int c, double x, double y, double z) {
+      auxiliary(m, TransportPhysics::n_aux, [source](int c, double x, double y, double z) {
         if (c == 0) return 0.5 + 0.3 * std::sin(2 * x + y);
         if (c < 4) return 0.05 * std::cos(x + 2 * y - z + c);
         if (c < 7) return std::sin(1.3 * x + c) * std::cos(y - 0.4 * z);
-        return 0.0;
+        return source * std::cos(3 * x - z);
       });
-  const ElementOperator<TransportPhysics> op(m.conn, m.x, m.block, aux, p);
+  return ElementOperator<TransportPhysics>(m.conn, m.x, m.block, aux, p);
+}
+
+}  // namespace
+
+TEST(StoredTangent, TransportEqualsOnTheFlyAndAssembled) {
+  const SmallMesh m = distorted_mesh();
+  const ElementOperator<TransportPhysics> op = transport_operator(m, 0.0);
   const Vector u = nodal(
       m, 1, [](int, double x, double y, double z) { return 0.4 + 0.3 * std::cos(2 * x - y + z); },
       "test::u");
@@ -181,20 +186,7 @@ TEST(StoredTangent, TransportEqualsOnTheFlyAndAssembled) {
 // with negative values (Monod's odd extension), with a source and a deforming block.
 TEST(StoredTangent, TransportStepStatesGiveResidualAndLinearisationAtAnyPhi) {
   const SmallMesh m = distorted_mesh();
-  TransportPhysics p;
-  p.coef.diffusivity[0] = 1e-2, p.coef.diffusivity[1] = 5e-3;
-  p.coef.monod_rate[1] = 1.0, p.coef.monod_half_saturation[1] = 0.1;
-  p.coef.material_motion[1] = 1.0;
-  p.inv_dt = 10;
-  p.theta = 0.66;
-  const NodalView aux =
-      auxiliary(m, TransportPhysics::n_aux, [](int c, double x, double y, double z) {
-        if (c == 0) return 0.5 + 0.3 * std::sin(2 * x + y);
-        if (c < 4) return 0.05 * std::cos(x + 2 * y - z + c);
-        if (c < 7) return std::sin(1.3 * x + c) * std::cos(y - 0.4 * z);
-        return 0.2 * std::cos(3 * x - z);
-      });
-  const ElementOperator<TransportPhysics> op(m.conn, m.x, m.block, aux, p);
+  const ElementOperator<TransportPhysics> op = transport_operator(m, 0.2);
   const Vector u = nodal(
       m, 1, [](int, double x, double y, double z) { return 0.4 + 0.3 * std::cos(2 * x - y + z); },
       "test::u");
