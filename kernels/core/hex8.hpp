@@ -12,28 +12,17 @@ namespace biofsi {
 template <int P, int Q>
 struct TensorBasis;
 
-// Q1 on [-1,1] with 2-point Gauss-Legendre: exact for the trilinear mass matrix.
-template <>
-struct TensorBasis<2, 2> {
-  static constexpr int P = 2, Q = 2, n_nodes = 8, n_qp = 8;
+// Q1 on [-1,1] with Q-point Gauss-Legendre: Q = 2 is exact for the trilinear mass matrix; Q = 1
+// (the centre) is the reduced rule of selective reduced integration.
+template <int NQ>
+struct TensorBasis<2, NQ> {
+  static_assert(NQ == 1 || NQ == 2, "Q1 is paired with the 1- or 2-point Gauss rule");
+  static constexpr int P = 2, Q = NQ, n_nodes = 8, n_qp = NQ * NQ * NQ;
   KOKKOS_INLINE_FUNCTION static Real point(int q) {
+    if (NQ == 1) return 0.0;
     return q == 0 ? -0.57735026918962576451 : 0.57735026918962576451;
   }
-  KOKKOS_INLINE_FUNCTION static Real weight(int) { return 1.0; }
-  KOKKOS_INLINE_FUNCTION static Real value(int i, Real xi) {
-    return i == 0 ? 0.5 * (1.0 - xi) : 0.5 * (1.0 + xi);
-  }
-  KOKKOS_INLINE_FUNCTION static Real derivative(int i, Real) { return i == 0 ? -0.5 : 0.5; }
-  KOKKOS_INLINE_FUNCTION static Real B(int q, int i) { return value(i, point(q)); }
-  KOKKOS_INLINE_FUNCTION static Real D(int q, int i) { return derivative(i, point(q)); }
-};
-
-// Q1 with the 1-point (centre) Gauss rule: the reduced rule of selective reduced integration.
-template <>
-struct TensorBasis<2, 1> {
-  static constexpr int P = 2, Q = 1, n_nodes = 8, n_qp = 1;
-  KOKKOS_INLINE_FUNCTION static Real point(int) { return 0.0; }
-  KOKKOS_INLINE_FUNCTION static Real weight(int) { return 2.0; }
+  KOKKOS_INLINE_FUNCTION static Real weight(int) { return NQ == 1 ? 2.0 : 1.0; }
   KOKKOS_INLINE_FUNCTION static Real value(int i, Real xi) {
     return i == 0 ? 0.5 * (1.0 - xi) : 0.5 * (1.0 + xi);
   }

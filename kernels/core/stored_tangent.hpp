@@ -161,7 +161,7 @@ struct StoredPointStates : ElementBatches<W> {
   using State = typename Kind::template State<Physics, Real>;
   static constexpr int n_state = sizeof(State) / sizeof(Real);
   static constexpr int n_entries = n_state + 10;  // state, inv J (row-major), w det J
-  static_assert(sizeof(State) == n_state * sizeof(Real), "PointState must hold T members only");
+  static_assert(sizeof(State) == n_state * sizeof(Real), "a state must hold T members only");
   Physics physics;  // the parameters tangent_at reads
   // data(batch, q n_entries + e, lane)
   Kokkos::View<Real** [W], typename ElementBatches<W>::Layout, MemSpace> data;
@@ -477,7 +477,7 @@ struct PointStateApplyLoop {
   using State = typename Kind::template State<Physics, T>;
   static constexpr int NC = Physics::n_components, NS = Store::n_state, NE = Store::n_entries;
   static constexpr int NN = Basis::n_nodes, NQ = Basis::n_qp;
-  static_assert(sizeof(State) == NS * sizeof(T), "PointState must hold T members only");
+  static_assert(sizeof(State) == NS * sizeof(T), "a state must hold T members only");
 
   decltype(Store::nodes) nodes;
   decltype(Store::data) data;
@@ -728,20 +728,22 @@ struct Linearisation {
 
   template <class Basis>
   void update(const ElementOperator<Physics, Basis>& op, const ElementGroups& set, ConstVector u) {
-    if (point.extent(0) != u.extent(0))
-      point = Vector(Kokkos::view_alloc(Kokkos::WithoutInitializing, "biofsi::linearisation_point"),
-                     u.extent(0));
-    Kokkos::deep_copy(point, u);
+    keep_point(u);
     linearise(op, set, u, tangent);
   }
   // The same from a store of the step's states (StepStates) taken with op's physics.
   template <class Basis = Hex8>
   void update_from(const StoredPointStates<Physics, W, StepStates>& steps, ConstVector u) {
+    keep_point(u);
+    linearise_from_step_states<Basis>(steps, u, tangent);
+  }
+
+ private:
+  void keep_point(ConstVector u) {
     if (point.extent(0) != u.extent(0))
       point = Vector(Kokkos::view_alloc(Kokkos::WithoutInitializing, "biofsi::linearisation_point"),
                      u.extent(0));
     Kokkos::deep_copy(point, u);
-    linearise_from_step_states<Basis>(steps, u, tangent);
   }
 };
 

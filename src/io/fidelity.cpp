@@ -85,52 +85,6 @@ std::string number_text(double v) {
   return s.str();
 }
 
-// A division count scaled by the factor, at least 1.
-bool scale_count(Node node, const std::string& key, double factor,
-                 std::vector<std::string>& changes) {
-  if (!node.IsScalar()) return false;
-  long n = 0;
-  try {
-    n = node.as<long>();
-  } catch (const YAML::Exception&) {
-    return false;  // the mesh reader reports it
-  }
-  const long scaled = std::max(1L, std::lround(static_cast<double>(n) * factor));
-  if (scaled == n) return true;
-  node = scaled;
-  changes.push_back(key + ": " + std::to_string(n) + " -> " + std::to_string(scaled));
-  return true;
-}
-
-void scale_box(Node mesh, double factor, std::vector<std::string>& changes) {
-  scale_count(mesh["nx"], "mesh.nx", factor, changes);
-  // A one-element-thick mesh is a pseudo-2-D run: its thickness stays one element.
-  const Node nz = mesh["nz"];
-  if (nz.IsScalar() && nz.Scalar() != "1") scale_count(mesh["nz"], "mesh.nz", factor, changes);
-  Node blocks = mesh["blocks"];
-  if (!blocks.IsSequence()) return;
-  for (size_t i = 0; i < blocks.size(); ++i)
-    if (blocks[i].IsMap())
-      scale_count(blocks[i]["ny"], index_key("mesh.blocks", i) + ".ny", factor, changes);
-}
-
-void scale_gmsh(Node mesh, double factor, std::vector<std::string>& changes) {
-  Node parameters = mesh["parameters"];
-  const Node refine = parameters.IsMap() ? parameters["refine"] : Node();
-  double r = 0;
-  try {
-    r = refine.IsScalar() ? refine.as<double>() : 0.0;
-  } catch (const YAML::Exception&) {
-    r = 0;
-  }
-  if (!(r > 0)) {
-    changes.push_back("mesh: a Gmsh mesh without a numeric `refine` parameter stays as it is");
-    return;
-  }
-  parameters["refine"] = r * factor;
-  changes.push_back("mesh.parameters.refine: " + number_text(r) + " -> " + number_text(r * factor));
-}
-
 // yaml-cpp's const access to a missing key gives a node on which only IsDefined() may be called.
 bool is_map(const Node& n) { return n.IsDefined() && n.IsMap(); }
 bool is_text(const Node& n, const char* text) {
@@ -145,6 +99,43 @@ std::optional<double> number_at(const Node& n) {
   } catch (const YAML::Exception&) {
     return std::nullopt;
   }
+}
+
+// A division count scaled by the factor, at least 1 (not an integer: left for the mesh reader to
+// report).
+void scale_count(Node node, const std::string& key, double factor,
+                 std::vector<std::string>& changes) {
+  const std::optional<double> n = number_at(node);
+  if (!n || std::floor(*n) != *n) return;
+  const long count = static_cast<long>(*n);
+  const long scaled = std::max(1L, std::lround(*n * factor));
+  if (scaled == count) return;
+  node = scaled;
+  changes.push_back(key + ": " + std::to_string(count) + " -> " + std::to_string(scaled));
+}
+
+void scale_box(Node mesh, double factor, std::vector<std::string>& changes) {
+  scale_count(mesh["nx"], "mesh.nx", factor, changes);
+  // A one-element-thick mesh is a pseudo-2-D run: its thickness stays one element.
+  if (number_at(mesh["nz"]) != 1.0) scale_count(mesh["nz"], "mesh.nz", factor, changes);
+  Node blocks = mesh["blocks"];
+  if (!blocks.IsSequence()) return;
+  for (size_t i = 0; i < blocks.size(); ++i)
+    if (blocks[i].IsMap())
+      scale_count(blocks[i]["ny"], index_key("mesh.blocks", i) + ".ny", factor, changes);
+}
+
+void scale_gmsh(Node mesh, double factor, std::vector<std::string>& changes) {
+  Node parameters = mesh["parameters"];
+  const std::optional<double> r =
+      is_map(parameters) ? number_at(parameters["refine"]) : std::nullopt;
+  if (!r || !(*r > 0)) {
+    changes.push_back("mesh: a Gmsh mesh without a numeric `refine` parameter stays as it is");
+    return;
+  }
+  parameters["refine"] = *r * factor;
+  changes.push_back("mesh.parameters.refine: " + number_text(*r) + " -> " +
+                    number_text(*r * factor));
 }
 
 // Whether the scene's inner loop only approaches a steady state: a growth run whose inner loop
@@ -207,11 +198,8 @@ FidelityReport apply_fidelity(Node& root, const Checker& c) {
   report.mesh_factor = preset->mesh_factor;
   Node mesh = root["mesh"];
   if (preset->mesh_factor != 1 && mesh.IsMap()) {
-    const Node type = mesh["type"];
-    if (type.IsScalar() && type.Scalar() == "box")
-      scale_box(mesh, preset->mesh_factor, report.changes);
-    else if (type.IsScalar() && type.Scalar() == "gmsh")
-      scale_gmsh(mesh, preset->mesh_factor, report.changes);
+    if (is_text(mesh["type"], "box")) scale_box(mesh, preset->mesh_factor, report.changes);
+    if (is_text(mesh["type"], "gmsh")) scale_gmsh(mesh, preset->mesh_factor, report.changes);
   }
   if (inner_loop_approaches_a_steady_state(static_cast<const Node&>(root)))
     scale_inner_loop(root["time"], *preset, report.changes);
@@ -220,7 +208,8 @@ FidelityReport apply_fidelity(Node& root, const Checker& c) {
     if (name == e.scene && report.level == e.level) report.expected = e.text;
   if (report.expected.empty())
     report.expected = "no error band is known for " + name +
-                      " at this level (measured scenes: " + "docs/speed-accuracy.md)";
+                      " at this level (measured scenes: "
+                      "docs/speed-accuracy.md)";
   return report;
 }
 
